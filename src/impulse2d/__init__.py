@@ -1,0 +1,22 @@
+"""impulse2d: a 2D rigid-body physics engine on numpy, batched at its core.
+
+    import impulse2d as p2
+    world = p2.World(gravity=(0.0, -9.81))
+    ball = world.add(p2.Circle(position=(0, 5), radius=0.5, restitution=0.5))
+    world.add(p2.Plane(normal=(0, 1), point=(0, 0)))
+    for _ in range(120):
+        world.step(1 / 60)
+    print(ball.position, world.energy().total)
+
+A ``World(batch_size=1024)`` (or ``world.replicate(1024)``) steps 1,024 copies of a scene
+in one set of arrays. SI units throughout.
+"""
+
+from ._snapshot import Snapshot
+from .energy import Energy
+from .shapes import Body, Box, Circle, Plane
+from .springs import Spring
+from .world import World
+
+__all__ = ["Body", "Box", "Circle", "Energy", "Plane", "Snapshot", "Spring", "World"]
+__version__ = "0.1.0"

@@ -1,0 +1,95 @@
+"""Validation of user input: every public parameter passes through one of these.
+
+Each function names the parameter and the rule it broke, so a mistake surfaces as
+``ValueError: radius must be > 0, got -1.0`` at the call that made it, never as a NaN
+several steps later. Nothing is silently clamped or repaired.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+
+def finite_scalar(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise if it is not a finite real number."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {number}")
+    return number
+
+
+def positive(name: str, value: Any) -> float:
+    """A finite number > 0."""
+    number = finite_scalar(name, value)
+    if number <= 0.0:
+        raise ValueError(f"{name} must be > 0, got {number}")
+    return number
+
+
+def non_negative(name: str, value: Any) -> float:
+    """A finite number >= 0."""
+    number = finite_scalar(name, value)
+    if number < 0.0:
+        raise ValueError(f"{name} must be >= 0, got {number}")
+    return number
+
+
+def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """A float64 array with every entry finite, optionally of an exact shape."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numeric, got {value!r}") from None
+    if shape is not None and array.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return array
+
+
+def vector2(name: str, value: Any) -> np.ndarray:
+    """A finite 2-vector, returned as a new float64 array of shape (2,)."""
+    return finite_array(name, value, (2,))
+
+
+def batched(name: str, value: Any, batch_size: int, tail: tuple[int, ...]) -> np.ndarray:
+    """A finite value of shape ``tail`` (same in every world) or ``(batch_size, *tail)``.
+
+    Returns an array of shape ``(batch_size, *tail)``.
+    """
+    array = finite_array(name, value)
+    if array.shape == tail:
+        return np.broadcast_to(array, (batch_size, *tail)).copy()
+    if array.shape == (batch_size, *tail):
+        return array
+    want = f"{tail}" if batch_size == 1 else f"{tail} or {(batch_size, *tail)}"
+    raise ValueError(f"{name} must have shape {want}, got shape {array.shape}")
+
+
+def batched_rule(name: str, array: np.ndarray, rule: str) -> None:
+    """Check ``array`` (already finite) against ``'> 0'`` or ``'>= 0'``, naming the parameter."""
+    bad = array <= 0.0 if rule == "> 0" else array < 0.0
+    if np.any(bad):
+        raise ValueError(f"{name} must be {rule}, got {array[bad].flat[0]}")
+
+
+def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
+    """One of a fixed set of strings."""
+    if value not in options:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}, got {value!r}")
+    return value
+
+
+def positive_int(name: str, value: Any) -> int:
+    """An integer >= 1 (bools are refused: ``True`` is not a count)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    if value < 1:
+        raise ValueError(f"{name} must be >= 1, got {value}")
+    return int(value)

@@ -1,0 +1,419 @@
+"""The friendly objects: ``Circle``, ``Box`` and ``Plane``, views of one body slot.
+
+As in pymunk, an object holds no physics state of its own once it is in a world: every
+attribute is a property that reads a fresh copy from the world's arrays, and every
+setter validates its input, writes the arrays and wakes the body. Before ``World.add``
+(and after ``World.remove``) the object keeps its values itself, so nothing a user set
+up is lost by removing and adding again.
+
+In a batch of ``B`` worlds a property returns one value per world (shape ``(B,)`` or
+``(B, 2)``) and a setter accepts either one value for every world or one per world.
+In a single world (``B == 1``) values are plain floats and arrays of shape ``(2,)``.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import _checks
+from .state import BOX, CIRCLE, DYNAMIC, FIXED, KINEMATIC, PLANE
+
+if TYPE_CHECKING:
+    from .world import World
+
+
+class _Field:
+    """Descriptor for one per-world value of a slot: a scalar or one row of a vector field.
+
+    ``array``/``rows`` say where it lives in the world's body table; ``rule`` is the
+    validation (``'> 0'``, ``'>= 0'`` or ``None`` for any finite number); ``rebuild``
+    says the derived mass properties must be recomputed after a write; ``moves`` says
+    the write teleports the body (the broadphase must look at it again).
+    """
+
+    def __init__(
+        self,
+        array: str,
+        rows: slice | int | None = None,
+        rule: str | None = None,
+        rebuild: bool = False,
+        moves: bool = False,
+        scale: float = 1.0,
+        doc: str = "",
+    ) -> None:
+        self.array, self.rows, self.rule = array, rows, rule
+        self.rebuild, self.moves = rebuild, moves
+        self.scale = scale  # stored = value * scale (a box stores half its width)
+        self.__doc__ = doc
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    @property
+    def tail(self) -> tuple[int, ...]:
+        return (2,) if isinstance(self.rows, slice) else ()
+
+    def __get__(self, obj: Any, owner: type | None = None) -> Any:
+        if obj is None:
+            return self
+        if obj._world is None:
+            value = obj._values[self.name]
+            return value.copy() if isinstance(value, np.ndarray) else value
+        value = obj._world._read_slot(obj._slot, self.array, self.rows)
+        return value if self.scale == 1.0 else value / self.scale
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj._check_settable(self.name)
+        if obj._world is None:
+            validated = obj._validate(self.name, value, self.tail, self.rule)
+            obj._check_batched(self.name, np.asarray(validated))
+            obj._values[self.name] = validated
+            return
+        world = obj._world
+        array = _checks.batched(self.name, value, world.batch_size, self.tail)
+        if self.rule:
+            _checks.batched_rule(self.name, array, self.rule)
+        obj._check_batched(self.name, array)
+        world._write_slot(obj._slot, self.array, self.rows, array * self.scale, moves=self.moves)
+        if self.rebuild:
+            world._rebuild_mass(obj._slot)
+
+
+class _Slot:
+    """What Circle, Box and Plane share: binding to a world slot, validation, queries."""
+
+    _kind: int = -1
+    _fixed_names: tuple[str, ...] = ()
+    _saved: tuple[str, ...] = ()  # what a detached object keeps (see World.remove)
+
+    def __init__(self) -> None:
+        self._world: World | None = None
+        self._slot = -1
+        self._values: dict[str, Any] = {}
+
+    # -- binding ---------------------------------------------------------------------------
+    @property
+    def world(self) -> World | None:
+        """The world this object is in, or None."""
+        return self._world
+
+    @property
+    def slot(self) -> int:
+        """Index of this object's slot in its world's arrays (-1 when not in a world)."""
+        return self._slot
+
+    def _validate(self, name: str, value: Any, tail: tuple[int, ...], rule: str | None) -> Any:
+        """Validate a value for a detached object; a batched array is kept as it is."""
+        array = _checks.finite_array(name, value)
+        if array.shape != tail and array.shape[1:] != tail:
+            raise ValueError(
+                f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}"
+            )
+        if rule:
+            _checks.batched_rule(name, array, rule)
+        if array.shape == tail:
+            return float(array) if tail == () else array
+        return array
+
+    def _check_settable(self, name: str) -> None:
+        if name in self._fixed_names:
+            raise AttributeError(f"{name} cannot be changed after construction")
+
+    def _check_batched(self, name: str, array: np.ndarray) -> None:
+        """Hook for rules that depend on more than one field (mass of a dynamic body)."""
+
+    def __repr__(self) -> str:
+        where = f"slot {self._slot}" if self._world is not None else "not in a world"
+        return f"<{type(self).__name__} {where}>"
+
+
+class Body(_Slot):
+    """A rigid body: the common part of ``Circle`` and ``Box``.
+
+    Keyword arguments (SI units): ``position`` (m), ``velocity`` (m/s), ``angle`` (rad),
+    ``angular_velocity`` (rad/s), ``mass`` (kg), ``restitution`` (>= 0; 1 is perfectly
+    elastic; above 1 adds energy), ``friction`` (Coulomb coefficient >= 0),
+    ``linear_drag`` and ``angular_drag`` (1/s: speeds decay as ``exp(-drag t)``),
+    ``fixed`` (never moves: infinite mass) and ``kinematic`` (moves with the velocity
+    you give it, pushes dynamic bodies, is not pushed back: infinite mass).
+
+    The tutorial gives fixed bodies "a high mass"; here they have infinite mass (zero
+    inverse mass), so nothing can move them and no energy leaks into them.
+    """
+
+    position = _Field("pose", slice(0, 2), moves=True, doc="Centre of mass (m), settable.")
+    velocity = _Field("vel", slice(0, 2), doc="Linear velocity (m/s), settable.")
+    angle = _Field("pose", 2, moves=True, doc="Rotation (rad, counter-clockwise), settable.")
+    angular_velocity = _Field("vel", 2, doc="Angular velocity (rad/s, CCW), settable.")
+    mass = _Field("mass", rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
+    restitution = _Field("restitution", rule=">= 0", doc="Coefficient of restitution.")
+    friction = _Field("friction", rule=">= 0", doc="Coulomb friction coefficient.")
+    linear_drag = _Field("linear_drag", rule=">= 0", doc="Linear drag (1/s).")
+    angular_drag = _Field("angular_drag", rule=">= 0", doc="Angular drag (1/s).")
+
+    _saved = (
+        "position",
+        "velocity",
+        "angle",
+        "angular_velocity",
+        "mass",
+        "restitution",
+        "friction",
+        "linear_drag",
+        "angular_drag",
+    )
+
+    def __init__(
+        self,
+        *,
+        position: Any = (0.0, 0.0),
+        velocity: Any = (0.0, 0.0),
+        angle: float = 0.0,
+        angular_velocity: float = 0.0,
+        mass: Any = 1.0,
+        restitution: Any = 0.0,
+        friction: Any = 0.6,
+        linear_drag: Any = 0.0,
+        angular_drag: Any = 0.0,
+        fixed: bool = False,
+        kinematic: bool = False,
+    ) -> None:
+        super().__init__()
+        if not isinstance(fixed, (bool, np.bool_)) or not isinstance(kinematic, (bool, np.bool_)):
+            raise ValueError(f"fixed and kinematic must be bools, got {fixed!r}, {kinematic!r}")
+        if fixed and kinematic:
+            raise ValueError("fixed and kinematic cannot both be True")
+        self._motion = FIXED if fixed else KINEMATIC if kinematic else DYNAMIC
+        if self._motion == FIXED:
+            for name, value in (("velocity", velocity), ("angular_velocity", angular_velocity)):
+                if np.any(_checks.finite_array(name, value) != 0.0):
+                    raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
+        values = {
+            "position": position,
+            "velocity": velocity,
+            "angle": angle,
+            "angular_velocity": angular_velocity,
+            "restitution": restitution,
+            "friction": friction,
+            "linear_drag": linear_drag,
+            "angular_drag": angular_drag,
+        }
+        for name, value in values.items():
+            setattr(self, name, value)
+        self.mass = mass
+
+    def _check_batched(self, name: str, array: np.ndarray) -> None:
+        if name == "mass" and self._motion == DYNAMIC and np.any(array <= 0.0):
+            raise ValueError(f"mass of a dynamic body must be > 0, got {array[array <= 0].flat[0]}")
+
+    # -- kind of body ----------------------------------------------------------------------
+    @property
+    def fixed(self) -> bool:
+        """True if the body never moves."""
+        return self._motion == FIXED
+
+    @property
+    def kinematic(self) -> bool:
+        """True if the body moves only with the velocity it is given."""
+        return self._motion == KINEMATIC
+
+    @property
+    def moment(self) -> Any:
+        """Moment of inertia about the centre (kg m^2), derived from mass and size."""
+        if self._world is None:
+            return self._moment_of(self._values["mass"])
+        return self._world._read_slot(self._slot, "moment", None)
+
+    def _moment_of(self, mass: Any) -> Any:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    @property
+    def awake(self) -> Any:
+        """False while the body sleeps (bool per world). Fixed bodies are never awake."""
+        if self._world is None:
+            return self._motion != FIXED
+        return self._world._read_slot(self._slot, "awake", None)
+
+    @property
+    def enabled(self) -> Any:
+        """Whether the body takes part in each world; settable per world (shape (B,))."""
+        if self._world is None:
+            return True
+        return self._world._read_slot(self._slot, "enabled", None)
+
+    @enabled.setter
+    def enabled(self, value: Any) -> None:
+        if self._world is None:
+            raise ValueError("enabled can only be set on a body in a world; use World.add")
+        self._world._set_enabled(self._slot, value)
+
+    def wake(self) -> None:
+        """Wake the body (and, at the next step, everything touching it)."""
+        if self._world is not None:
+            self._world._wake_slot(self._slot)
+
+    # -- forces ------------------------------------------------------------------------------
+    def apply_force(self, force: Any, point: Any = None) -> None:
+        """Add a force (N) acting over the next step at a world point (default: the centre).
+
+        A force off the centre also applies the torque ``r x F``. Forces are cleared
+        after every step. Fixed and kinematic bodies are not affected.
+        """
+        self._require_world("apply_force")
+        self._world._apply(self._slot, "force", force, point, "force")
+
+    def apply_impulse(self, impulse: Any, point: Any = None) -> None:
+        """Change momentum at once by ``impulse`` (N s) at a world point; wakes the body.
+
+        This is what the tutorial's mouse cue does (its ``ApplyForce`` in collisions
+        and for the cue is really an impulse: it changes velocity by ``J / m`` at once).
+        """
+        self._require_world("apply_impulse")
+        self._world._apply(self._slot, "impulse", impulse, point, "impulse")
+
+    def _require_world(self, what: str) -> None:
+        if self._world is None:
+            raise ValueError(f"{what} needs the body to be in a world; use World.add first")
+
+    # -- geometry --------------------------------------------------------------------------
+    def to_world(self, local_point: Any) -> np.ndarray:
+        """A body-local point (m) in world coordinates (shape (2,) or (B, 2))."""
+        local = _checks.vector2("local_point", local_point)
+        position, angle = np.asarray(self.position), np.asarray(self.angle)
+        c, s = np.cos(angle)[..., None], np.sin(angle)[..., None]
+        return position + np.stack(
+            [
+                c[..., 0] * local[0] - s[..., 0] * local[1],
+                s[..., 0] * local[0] + c[..., 0] * local[1],
+            ],
+            axis=-1,
+        )
+
+    def to_local(self, world_point: Any) -> np.ndarray:
+        """A world point (m) in this body's coordinates (shape (2,) or (B, 2))."""
+        point = _checks.vector2("world_point", world_point)
+        d = point - np.asarray(self.position)
+        angle = np.asarray(self.angle)
+        c, s = np.cos(angle), np.sin(angle)
+        return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1]], axis=-1)
+
+    def is_inside(self, point: Any) -> Any:
+        """True if the world point lies inside the shape (bool, or one per world)."""
+        local = self.to_local(point)
+        return self._contains_local(local)
+
+    def _contains_local(self, local: np.ndarray) -> Any:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+
+class Circle(Body):
+    """A solid disc of ``radius`` (m); moment of inertia ``m r^2 / 2``.
+
+    All other keywords as in :class:`Body`. Example::
+
+        ball = world.add(Circle(position=(0, 5), radius=0.5, mass=1.0, restitution=0.5))
+    """
+
+    _kind = CIRCLE
+    _saved = (*Body._saved, "radius")
+    radius = _Field("half_width", rule="> 0", rebuild=True, moves=True, doc="Radius (m).")
+
+    def __init__(self, *, radius: Any = 0.5, **body: Any) -> None:
+        super().__init__(**body)
+        self.radius = radius
+
+    def _moment_of(self, mass: Any) -> Any:
+        return 0.5 * mass * self.radius**2
+
+    def _contains_local(self, local: np.ndarray) -> Any:
+        inside = local[..., 0] ** 2 + local[..., 1] ** 2 <= np.asarray(self.radius) ** 2
+        return bool(inside) if inside.ndim == 0 else inside
+
+
+class Box(Body):
+    """A solid rectangle ``width`` x ``height`` (m) centred on ``position``.
+
+    Moment of inertia ``m (w^2 + h^2) / 12`` (the tutorial's ``m w h / 12`` is wrong: it
+    is not even dimensionally a moment for a non-square box). ``angle`` rotates it
+    counter-clockwise. All other keywords as in :class:`Body`.
+    """
+
+    _kind = BOX
+    _saved = (*Body._saved, "width", "height")
+    width = _Field("half_width", rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Width (m).")
+    height = _Field(
+        "half_height", rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Height (m)."
+    )
+
+    def __init__(self, *, width: Any = 1.0, height: Any = 1.0, **body: Any) -> None:
+        super().__init__(**body)
+        self.width = width
+        self.height = height
+
+    def _moment_of(self, mass: Any) -> Any:
+        return mass * (self.width**2 + self.height**2) / 12.0
+
+    def _contains_local(self, local: np.ndarray) -> Any:
+        inside = (np.abs(local[..., 0]) <= 0.5 * np.asarray(self.width)) & (
+            np.abs(local[..., 1]) <= 0.5 * np.asarray(self.height)
+        )
+        return bool(inside) if inside.ndim == 0 else inside
+
+
+class Plane(_Slot):
+    """An infinite fixed half-space: the points ``p`` with ``(p - point) . normal <= 0``.
+
+    ``normal`` (any non-zero length; stored normalised) points out of the solid side,
+    so a ground is ``Plane(normal=(0, 1), point=(0, 0))``. Unlike the tutorial's
+    two-sided line, the solid side is a whole half-space, so nothing can tunnel
+    through a plane however fast it moves.
+    """
+
+    _kind = PLANE
+    _fixed_names = ("normal",)
+    _saved = ("point", "restitution", "friction")
+    point = _Field("pose", slice(0, 2), moves=True, doc="A point on the plane's surface (m).")
+    restitution = _Field("restitution", rule=">= 0", doc="Coefficient of restitution.")
+    friction = _Field("friction", rule=">= 0", doc="Coulomb friction coefficient.")
+
+    def __init__(
+        self,
+        *,
+        normal: Any = (0.0, 1.0),
+        point: Any = (0.0, 0.0),
+        restitution: Any = 0.0,
+        friction: Any = 0.6,
+    ) -> None:
+        super().__init__()
+        n = _checks.vector2("normal", normal)
+        length = float(np.hypot(n[0], n[1]))
+        if length == 0.0:
+            raise ValueError("normal must be non-zero, got (0.0, 0.0)")
+        self._normal = n / length
+        self._motion = FIXED
+        self.point = point
+        self.restitution = restitution
+        self.friction = friction
+
+    @property
+    def normal(self) -> np.ndarray:
+        """Unit normal pointing out of the solid side."""
+        return self._normal.copy()
+
+    def is_inside(self, point: Any) -> Any:
+        """True if the world point is in the solid half-space (on or behind the surface)."""
+        p = _checks.vector2("point", point)
+        depth = (p - np.asarray(self.point)) @ self._normal
+        return bool(depth <= 0.0) if np.ndim(depth) == 0 else depth <= 0.0
+
+
+def moment_of(kind: int, mass: np.ndarray, half_w: np.ndarray, half_h: np.ndarray) -> np.ndarray:
+    """Moment of inertia about the centre: disc ``m r^2 / 2``, box ``m (w^2 + h^2) / 12``."""
+    if kind == CIRCLE:
+        return 0.5 * mass * half_w**2
+    if kind == BOX:
+        # (w^2 + h^2) / 12 with w = 2 half_w: (4 hw^2 + 4 hh^2) / 12 = (hw^2 + hh^2) / 3
+        return mass * (half_w**2 + half_h**2) / 3.0
+    return np.zeros_like(mass)

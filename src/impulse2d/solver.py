@@ -1,0 +1,161 @@
+"""The contact solver: Box2D v3's soft step, vectorised over colours.
+
+One step of ``dt`` is split into ``substeps`` of ``h = dt / substeps``; each substep:
+
+1. integrate velocities (gravity, forces, springs, drag) -- in ``world.py``;
+2. ``warm_start``: apply the impulses accumulated so far;
+3. ``solve(use_bias=True)``: non-penetration with a *soft* position correction (a
+   spring-damper of ``contact_hertz``) plus Coulomb friction, Gauss-Seidel by colour;
+4. integrate positions -- in ``world.py``;
+5. ``solve(use_bias=False)`` (the *relax* pass): the same without the position bias,
+   which removes the velocity the bias added, so pushing bodies apart does not make
+   them bounce.
+
+After the substeps, ``restitution`` applies the bounce once, against the normal
+velocity the point had when it first pushed (``relative_velocity``), so resting
+contacts never bounce and a falling ball rebounds at ``e`` times its impact speed.
+
+Speculative contacts (``separation > 0``) are hard: the closing speed is limited to
+``separation / h``, so a body arrives at the surface and no further. The current
+separation of a point is ``base + J . dq``, where ``dq`` is how far each body has moved
+since the step began (the Jacobian is the same one that gives the normal velocity).
+
+Sign conventions are in ``contacts.py``. The tutorial resolves each collision once with
+an impulse and then pushes the bodies apart by the penetration ("contact forces"); here
+both are the same constraint, iterated, which is what lets boxes stack.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .contacts import Contacts
+
+
+def colour_indices(contacts: Contacts) -> list[np.ndarray]:
+    """For each colour, the flat velocity indices of its points, as one contiguous array."""
+    bounds = contacts.bounds
+    return [contacts.index6[:, bounds[k] : bounds[k + 1]].ravel() for k in range(bounds.size - 1)]
+
+
+def separation(contacts: Contacts, delta_pose: np.ndarray) -> np.ndarray:
+    """Current separation of every point: ``base + J . dq`` (``delta_pose`` is ``(3, T)``)."""
+    moved = delta_pose.reshape(-1)[contacts.index6]
+    return contacts.base_separation + (contacts.jac_n * moved).sum(axis=0)
+
+
+def warm_start(contacts: Contacts, velocity: np.ndarray) -> None:
+    """Apply the accumulated normal and friction impulses to the ``(3, T)`` velocities."""
+    if contacts.size == 0:
+        return
+    change = contacts.inv_n * contacts.normal_impulse + contacts.inv_t * contacts.tangent_impulse
+    np.add.at(velocity.reshape(-1), contacts.index6.ravel(), change.ravel())
+
+
+def solve(
+    contacts: Contacts,
+    indices: list[np.ndarray],
+    velocity: np.ndarray,
+    current_separation: np.ndarray,
+    inv_h: float,
+    use_bias: bool,
+    push_speed: float,
+) -> None:
+    """One Gauss-Seidel sweep over the colours: normal, then friction, for every point.
+
+    The normal impulse solves ``J v + bias = 0`` softly and is clamped so the accumulated
+    impulse stays >= 0 (contacts push, never pull); friction is clamped to the Coulomb
+    cone ``|lambda_t| <= mu lambda_n``.
+    """
+    s = current_separation
+    speculative = s > 0.0
+    if use_bias:
+        bias = np.where(
+            speculative,
+            s * inv_h,
+            np.maximum(contacts.mass_scale * contacts.bias_rate * s, -push_speed),
+        )
+        mass_scale = np.where(speculative, 1.0, contacts.mass_scale)
+        impulse_scale = np.where(speculative, 0.0, contacts.impulse_scale)
+    else:
+        bias = np.where(speculative, s * inv_h, 0.0)
+        mass_scale = np.ones_like(s)
+        impulse_scale = np.zeros_like(s)
+    flat = velocity.reshape(-1)
+    bounds = contacts.bounds
+    for k, index in enumerate(indices):
+        lo, hi = bounds[k], bounds[k + 1]
+        v = flat[index].reshape(6, hi - lo)
+        # Non-penetration.
+        vn = (contacts.jac_n[:, lo:hi] * v).sum(axis=0)
+        accumulated = contacts.normal_impulse[lo:hi]  # a view: read before writing back
+        impulse = (
+            -contacts.normal_mass[lo:hi] * (mass_scale[lo:hi] * vn + bias[lo:hi])
+            - impulse_scale[lo:hi] * accumulated
+        )
+        total = np.maximum(accumulated + impulse, 0.0)
+        impulse = total - accumulated
+        if use_bias:
+            # Remember the normal velocity at the moment the point first pushes: that is the
+            # impact speed restitution must reverse (it includes gravity gained on the way).
+            first = (contacts.max_normal_impulse[lo:hi] == 0.0) & (impulse > 0.0)
+            contacts.relative_velocity[lo:hi] = np.where(
+                first, vn, contacts.relative_velocity[lo:hi]
+            )
+        contacts.normal_impulse[lo:hi] = total
+        np.maximum(
+            contacts.max_normal_impulse[lo:hi], impulse, out=contacts.max_normal_impulse[lo:hi]
+        )
+        v += impulse * contacts.inv_n[:, lo:hi]
+        # Friction, within the cone of the normal impulse just found.
+        vt = (contacts.jac_t[:, lo:hi] * v).sum(axis=0)
+        accumulated = contacts.tangent_impulse[lo:hi]  # a view: take the change first
+        limit = contacts.friction[lo:hi] * total
+        friction = np.clip(accumulated - contacts.tangent_mass[lo:hi] * vt, -limit, limit)
+        v += (friction - accumulated) * contacts.inv_t[:, lo:hi]
+        contacts.tangent_impulse[lo:hi] = friction
+        flat[index] = v.ravel()
+
+
+def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: float) -> None:
+    """Bounce: reverse the normal velocity at the point, scaled by ``e``.
+
+    Only points that approached faster than ``threshold`` and actually pushed take part,
+    so resting contacts stay at rest.
+
+    The semi-implicit Euler integrator (``v += h a; x += h v``) stores, under a constant
+    acceleration ``a``, the exact velocity of half a substep *earlier*; the velocity in
+    step with the position is ``u = v + h a / 2``. Its invariant in free flight is
+    ``|u|^2 / 2 - a . x``, so a bounce that keeps energy must reverse ``u``, not ``v``:
+    ``u_n' = -e u_n``, that is ``v_n' = -e v_n - (1 + e) h a_n / 2`` with ``a_n`` the
+    relative normal acceleration from gravity and applied forces. Reversing ``v`` (as
+    Box2D does) loses ``m g h v`` per bounce: 1 % of the energy per bounce of a ball
+    dropped 2 m at 60 Hz with 4 substeps.
+    """
+    eligible = (
+        (contacts.relative_velocity < -threshold)
+        & (contacts.max_normal_impulse > 0.0)
+        & (contacts.restitution > 0.0)
+    )
+    if not eligible.any():
+        return
+    flat = velocity.reshape(-1)
+    bounds = contacts.bounds
+    for k in range(bounds.size - 1):
+        rows = np.flatnonzero(eligible[bounds[k] : bounds[k + 1]]) + bounds[k]
+        if rows.size == 0:
+            continue
+        index = contacts.index6[:, rows].ravel()
+        v = flat[index].reshape(6, rows.size)
+        vn = (contacts.jac_n[:, rows] * v).sum(axis=0)
+        accumulated = contacts.normal_impulse[rows]
+        e = contacts.restitution[rows]
+        target = e * contacts.relative_velocity[rows] + (1.0 + e) * (
+            0.5 * h * contacts.relative_acceleration[rows]
+        )
+        total = np.maximum(accumulated - contacts.normal_mass[rows] * (vn + target), 0.0)
+        impulse = total - accumulated
+        contacts.normal_impulse[rows] = total
+        contacts.max_normal_impulse[rows] = np.maximum(contacts.max_normal_impulse[rows], impulse)
+        v += impulse * contacts.inv_n[:, rows]
+        flat[index] = v.ravel()
