@@ -100,9 +100,9 @@ class SlotStore:
         b["force"][:, :, slot] = 0.0
         self._body_objects[slot] = obj
         obj._world, obj._slot, obj._values = self, slot, {}
+        self._structure_changed()
         self._rebuild_mass(slot)
         self._forget_slot(slot)
-        self._structure_changed()
         return obj
 
     def remove(self, obj: Any) -> None:
@@ -117,6 +117,7 @@ class SlotStore:
             self._springs["enabled"][:, obj._slot] = False
             self._spring_a[obj._slot] = self._spring_b[obj._slot] = -1
             self._spring_objects[obj._slot] = None
+            self._springs_used = bool((self._spring_a >= 0).any())
             self._wake_slot(self.body_slot(obj.body1))
             obj._world, obj._slot, obj._values = None, -1, values
             return
@@ -155,12 +156,32 @@ class SlotStore:
         self._allowed = allowed
         self._plane_keys = plane_pairs(kind, allowed, self._batch)
         self._plane_a, self._plane_b = decode_keys(self._plane_keys, self._batch, kind.size)
-        self._kind_flat = np.tile(kind, self._batch)
-        self._dynamic_flat = np.tile(dynamic, self._batch)
-        self._kinematic_flat = np.tile(motion == KINEMATIC, self._batch) & np.tile(
-            solid, self._batch
-        )
-        self._solid_flat = np.tile(solid, self._batch)
+        batch = self._batch
+        self._dynamic_flat = np.tile(dynamic, batch)
+        self._solid_flat = np.tile(solid, batch)
+        self._kinematic_flat = np.flatnonzero(np.tile((motion == KINEMATIC) & solid, batch))
+        self._box_flat = np.flatnonzero(np.tile(kind == BOX, batch))
+        self._views = {field.name: self._bodies.flat(field.name) for field in BODY_FIELDS}
+        bound = self._views["bound"]
+        # Broadphase extents: a circle's is its radius; a box's is refreshed from its angle
+        # whenever it moves or is re-inserted (see _stages._update_extents).
+        self._extent_x, self._extent_y = bound.copy(), bound.copy()
+        self._margin_base = self._fat_margin(np.arange(bound.size))
+        self._springs_used = bool((self._spring_a >= 0).any())
+        self._touch()
+
+    def _fat_margin(self, flat: np.ndarray) -> np.ndarray:
+        """How much larger than its tight box a body's fat box is, before travel is added:
+        half its smaller half size if it can move, nothing if it is fixed (a long fixed
+        cushion with a margin proportional to its length would pair with every ball)."""
+        views = self._views
+        smaller = np.minimum(views["half_width"][flat], views["half_height"][flat])
+        movable = np.tile(self._motion != FIXED, self._batch)[flat]
+        return np.where(movable, 0.5 * smaller, 0.0)
+
+    def _touch(self) -> None:
+        """Something changed who moves or a body parameter: rebuild the step terms."""
+        self._version += 1
 
     def _grow_bodies(self, capacity: int) -> None:
         old = self._bodies.capacity
@@ -221,6 +242,7 @@ class SlotStore:
         if moves:
             self._forget_moves(slot)
         self._wake_slot(slot)
+        self._touch()
 
     def _forget_moves(self, slot: int) -> None:
         """A teleported or resized body: re-query it and wake what was resting on it."""
@@ -241,6 +263,11 @@ class SlotStore:
         b["inv_mass"][:, slot] = 1.0 / mass if dynamic else 0.0
         b["inv_moment"][:, slot] = 1.0 / moment if dynamic else 0.0
         b["bound"][:, slot] = hw if kind == CIRCLE else np.hypot(hw, hh) if kind == BOX else 0.0
+        flat = self._slot_flat(slot)
+        self._extent_x[flat] = self._extent_y[flat] = self._views["bound"][flat]
+        self._margin_base[flat] = self._fat_margin(flat)
+        self._broadphase.mark(flat)
+        self._touch()
 
     def _set_enabled(self, slot: int, value: Any) -> None:
         flags = np.asarray(value)
@@ -257,6 +284,7 @@ class SlotStore:
         b["awake"][changed, slot] = flags[changed] & (self._motion[slot] != FIXED)
         b["sleep_time"][changed, slot] = 0.0
         self._broadphase.mark(flat)
+        self._touch()
 
     # -- waking -------------------------------------------------------------------------------
     def _wake_slot(self, slot: int) -> None:
@@ -276,6 +304,7 @@ class SlotStore:
         awake[members] = True
         b.flat("sleep_time")[members] = 0.0
         island[members] = -1
+        self._touch()
 
     def _wake_neighbours(self, flat: np.ndarray) -> None:
         """Wake everything that was in contact with the given bodies at the last step."""
@@ -299,6 +328,7 @@ class SlotStore:
         if mode == "force":
             b["force"][:2, :, slot] += push.T
             b["force"][2, :, slot] += torque
+            self._forces_pending = True
         else:
             b["vel"][:2, :, slot] += push.T * b["inv_mass"][:, slot]
             b["vel"][2, :, slot] += torque * b["inv_moment"][:, slot]
@@ -341,6 +371,7 @@ class SlotStore:
                 "rest_length", values["rest_length"], self._batch, ()
             )
         spring._values = {}
+        self._springs_used = True
         self._wake_slot(slot_a)
         self._wake_slot(slot_b)
         return spring

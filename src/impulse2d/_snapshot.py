@@ -56,7 +56,9 @@ class SnapshotMixin:
             spring_b=self._spring_b.copy(),
             bodies=self._bodies.copy_arrays(),
             springs=self._springs.copy_arrays(),
-            cache=Cache(c.keys.copy(), c.normal_impulse.copy(), c.tangent_impulse.copy()),
+            cache=Cache(
+                c.keys.copy(), c.normal_impulse.copy(), c.tangent_impulse.copy(), c.colour.copy()
+            ),
             time=self._time.copy(),
             steps=self.steps,
         )
@@ -104,6 +106,8 @@ class SnapshotMixin:
             self.steps = snapshot.steps
         n = self._bodies.capacity
         self._broadphase.mark((targets[:, None] * n + np.arange(n)).ravel())
+        self._forces_pending = bool(self._bodies["force"].any())
+        self._touch()
 
     def _restore_cache(self, snapshot: Snapshot, targets: np.ndarray, sources: np.ndarray) -> None:
         n, batch = self._bodies.capacity, self._batch
@@ -154,6 +158,7 @@ class SnapshotMixin:
         clone._gravity = self._gravity.copy()
         clone._broadphase = Broadphase(batch, self._bodies.capacity)
         clone._cache = Cache.empty()
+        clone._terms = None
         clone.last_contacts = None
         clone._structure_changed()
         clone._restore_cache(snapshot, np.arange(batch), np.zeros(batch, np.int64))

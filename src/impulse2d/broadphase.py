@@ -1,13 +1,13 @@
 """Broadphase: the candidate pairs, kept from step to step and updated only where bodies move.
 
-Each body gets a *tight* bounding square: its bounding circle, grown by how far it can
-travel this step (``(|vx| + |vy| + |w| R) dt``) and by half the speculative distance, so
-two tight squares overlap whenever the narrowphase could make a contact. The
-broadphase stores a *fat* square around each tight one (a margin larger). The
-candidate pairs are the pairs of overlapping fat squares; as long as every tight square
-stays inside its fat square the pair list stays valid, so a step in which nothing has
+Each body gets a *tight* bounding box: its axis-aligned bounding box, grown on every
+side by how far it can travel this step (``(|vx| + |vy| + |w| R) dt``) and by half the
+speculative distance, so two tight boxes overlap whenever the narrowphase could make a
+contact. The broadphase stores a *fat* box around each tight one (a margin larger). The
+candidate pairs are the pairs of overlapping fat boxes; as long as every tight box
+stays inside its fat box the pair list stays valid, so a step in which nothing has
 moved far costs a few elementwise operations and nothing per pair. A body that leaves
-its fat square is re-fattened and only its pairs are recomputed.
+its fat box is re-fattened and only its pairs are recomputed.
 
 Finding the new pairs of the moved bodies picks by size: a dense test against every
 slot of the world while that is cheap (``moved x slots`` up to a few hundred thousand),
@@ -30,7 +30,7 @@ import numpy as np
 
 from .narrowphase import FEATURES, PAIR_KIND
 
-_DENSE_LIMIT = 200_000  # moved bodies x slots tested densely before switching to the sweep
+_DENSE_LIMIT = 4_000_000  # moved bodies x slots tested densely before switching to the sweep
 
 
 def pair_keys(
@@ -82,11 +82,12 @@ class Broadphase:
         self.batch, self.slots = batch, slots
         self.dense_limit = dense_limit
         total = batch * slots
-        # Fat squares: centre and half size. A body with no square has half = -inf, so it
-        # overlaps nothing.
+        # Fat boxes: centre and half extents. A body with no box has half extents -inf, so
+        # it overlaps nothing.
         self.fat_x = np.zeros(total)
         self.fat_y = np.zeros(total)
-        self.fat_half = np.full(total, -np.inf)
+        self.fat_hx = np.full(total, -np.inf)
+        self.fat_hy = np.full(total, -np.inf)
         self.stale = np.ones(total, dtype=bool)  # must be (re)inserted at the next update
         self.keys = np.zeros(0, np.int64)
         self.body_a = np.zeros(0, np.int64)
@@ -101,7 +102,8 @@ class Broadphase:
         self,
         x: np.ndarray,
         y: np.ndarray,
-        tight: np.ndarray,
+        tight_x: np.ndarray,
+        tight_y: np.ndarray,
         margin: np.ndarray,
         movable: np.ndarray,
         present: np.ndarray,
@@ -110,14 +112,14 @@ class Broadphase:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Refresh the pairs and return ``(keys, body_a, body_b)``.
 
-        ``x, y`` are centres and ``tight`` the tight half sizes of all ``T`` bodies;
-        ``margin`` is the extra half size given to a re-fattened square; ``movable`` marks
-        bodies that can move this step (awake dynamic or kinematic); ``present`` marks
-        enabled non-plane bodies. ``allowed[a, b]`` says slots a and b may collide, and
-        ``kind`` gives each slot's shape kind.
+        ``x, y`` are centres and ``tight_x, tight_y`` the tight half extents of all ``T``
+        bodies; ``margin`` is what a re-fattened box gets on top; ``movable`` marks bodies
+        that can move this step (awake dynamic or kinematic); ``present`` marks enabled
+        non-plane bodies. ``allowed[a, b]`` says slots a and b may collide, and ``kind``
+        gives each slot's shape kind.
         """
-        escaped = (np.abs(x - self.fat_x) + tight > self.fat_half) | (
-            np.abs(y - self.fat_y) + tight > self.fat_half
+        escaped = (np.abs(x - self.fat_x) + tight_x > self.fat_hx) | (
+            np.abs(y - self.fat_y) + tight_y > self.fat_hy
         )
         moved_mask = (escaped & movable) | self.stale
         if not moved_mask.any():
@@ -128,7 +130,8 @@ class Broadphase:
         live = present[moved]
         self.fat_x[moved] = x[moved]
         self.fat_y[moved] = y[moved]
-        self.fat_half[moved] = np.where(live, tight[moved] + margin[moved], -np.inf)
+        self.fat_hx[moved] = np.where(live, tight_x[moved] + margin[moved], -np.inf)
+        self.fat_hy[moved] = np.where(live, tight_y[moved] + margin[moved], -np.inf)
 
         keep = ~(moved_mask[self.body_a] | moved_mask[self.body_b])
         new_keys = self._query(moved[live], moved_mask, present, allowed, kind)
@@ -136,8 +139,10 @@ class Broadphase:
         if new_keys.size:
             new_keys.sort()
             kept = np.insert(kept, np.searchsorted(kept, new_keys), new_keys)
-        self.keys = kept
-        self.body_a, self.body_b = decode_keys(kept, self.batch, self.slots)
+            self.keys = kept
+            self.body_a, self.body_b = decode_keys(kept, self.batch, self.slots)
+        else:
+            self.keys, self.body_a, self.body_b = kept, self.body_a[keep], self.body_b[keep]
         return self.keys, self.body_a, self.body_b
 
     def _query(
@@ -171,25 +176,37 @@ class Broadphase:
         return pair_keys(kinds, first // n, slot_a, slot_b, self.batch, n)
 
     def _overlap(self, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-        reach = self.fat_half[first] + self.fat_half[second]
-        return (np.abs(self.fat_x[first] - self.fat_x[second]) < reach) & (
-            np.abs(self.fat_y[first] - self.fat_y[second]) < reach
+        return (
+            np.abs(self.fat_x[first] - self.fat_x[second])
+            < self.fat_hx[first] + self.fat_hx[second]
+        ) & (
+            np.abs(self.fat_y[first] - self.fat_y[second])
+            < self.fat_hy[first] + self.fat_hy[second]
         )
 
     def _dense(self, moved: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Every moved body against every slot of its world."""
+        """Every moved body against every slot of its world (rows of the (B, N) arrays)."""
         n = self.slots
-        others = (moved // n * n)[:, None] + np.arange(n)
-        first = np.broadcast_to(moved[:, None], others.shape)
-        hit = self._overlap(first, others)
-        return first[hit], others[hit]
+        world = moved // n
+
+        def rows(array: np.ndarray) -> np.ndarray:
+            return np.take(array.reshape(-1, n), world, axis=0)
+
+        hit = np.abs(rows(self.fat_x) - self.fat_x[moved][:, None]) < (
+            rows(self.fat_hx) + self.fat_hx[moved][:, None]
+        )
+        hit &= np.abs(rows(self.fat_y) - self.fat_y[moved][:, None]) < (
+            rows(self.fat_hy) + self.fat_hy[moved][:, None]
+        )
+        first, cols = np.divmod(np.flatnonzero(hit), n)  # 2-D nonzero is several times slower
+        return moved[first], world[first] * n + cols
 
     def _sweep(self, moved: np.ndarray, present: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sort and sweep: candidates are bodies whose left edge lies in a window."""
         n = self.slots
-        bodies = np.flatnonzero(present & np.isfinite(self.fat_half))
-        half = self.fat_half[bodies]
-        # Bodies far larger than typical are tested densely, so that the sweep window
+        bodies = np.flatnonzero(present & np.isfinite(self.fat_hx))
+        half = self.fat_hx[bodies]
+        # Bodies far wider than typical are tested densely, so that the sweep window
         # (which must span the widest body) stays narrow.
         typical = np.median(half)
         large = half > 8.0 * typical
@@ -213,8 +230,8 @@ class Broadphase:
         sorted_bodies = bodies[order]
         sorted_keys = ((bodies // n) * spread + left)[order]
         m_world = (moved // n) * spread
-        m_left = self.fat_x[moved] - self.fat_half[moved]
-        m_right = self.fat_x[moved] + self.fat_half[moved]
+        m_left = self.fat_x[moved] - self.fat_hx[moved]
+        m_right = self.fat_x[moved] + self.fat_hx[moved]
         slack = 1e-9 * spread
         lo = np.searchsorted(sorted_keys, m_world + m_left - widest - slack, side="left")
         hi = np.searchsorted(sorted_keys, m_world + m_right + slack, side="right")

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .narrowphase import FEATURES
+from .narrowphase import FEATURES, Points
 
 _HASH_1 = np.uint64(0x9E3779B97F4A7C15)
 _HASH_2 = np.uint64(0xBF58476D1CE4E5B9)
@@ -94,24 +94,32 @@ def colour(
     body_b: np.ndarray,
     free_a: np.ndarray,
     free_b: np.ndarray,
-    prio: np.ndarray,
+    local_key: np.ndarray,
     total: int,
+    previous: np.ndarray,
 ) -> np.ndarray:
     """Colour constraints so that no dynamic body appears twice in a colour.
 
-    ``free_a``/``free_b`` mark ends on bodies that cannot move (fixed, kinematic): they
-    never conflict. Returns the colour of each constraint (0, 1, ...).
+    ``free_a``/``free_b`` mark ends on bodies that cannot move (fixed, kinematic,
+    asleep): they never conflict. ``previous`` is each point's colour at the last step
+    (-1 for a new point): contacts persist, so keeping those colours while they are
+    still valid makes colouring cost nothing in a steady scene; only new points go
+    through the rounds. Returns the colour of each constraint (0, 1, ...).
     """
     count = body_a.size
-    result = np.full(count, -1, np.int64)
-    if count == 0:
-        return result
+    ends = np.concatenate([body_a[~free_a], body_b[~free_b]])
+    ends.sort()
+    if not (ends[1:] == ends[:-1]).any():  # no dynamic body twice: one colour (common)
+        return np.zeros(count, np.int64)
     sentinel = total  # every immovable end points here; it constrains nothing
     ends_a = np.where(free_a, sentinel, body_a)
     ends_b = np.where(free_b, sentinel, body_b)
-    used = np.zeros(total + 1, np.uint64)
+    result = np.where(previous < _PALETTE, previous, -1)
+    used = _used_colours(result, ends_a, ends_b, total)
+    remaining = np.flatnonzero(result < 0)
+    by_point = np.zeros(count, np.uint64)
+    by_point[remaining] = priority(local_key[remaining])
     best = np.full(total + 1, _ALL_BITS, np.uint64)
-    remaining = np.arange(count)
     deferred: list[np.ndarray] = []
     base = 0
     while remaining.size or deferred:
@@ -120,7 +128,7 @@ def colour(
             deferred = []
             used[:] = 0
             base += _PALETTE
-        ra, rb, rp = ends_a[remaining], ends_b[remaining], prio[remaining]
+        ra, rb, rp = ends_a[remaining], ends_b[remaining], by_point[remaining]
         best[ra] = _ALL_BITS
         best[rb] = _ALL_BITS
         np.minimum.at(best, ra, rp)
@@ -141,41 +149,79 @@ def colour(
     return result
 
 
+def _used_colours(
+    result: np.ndarray, ends_a: np.ndarray, ends_b: np.ndarray, total: int
+) -> np.ndarray:
+    """Bit mask of the colours each body already has, after dropping (setting to -1 in
+    ``result``) kept colours that now clash: a body that woke up, or that was asleep and
+    is now movable, can meet two points of the same colour."""
+    kept = np.flatnonzero(result >= 0)
+    used = np.zeros(total + 1, np.uint64)
+    if kept.size == 0:
+        return used
+    bits = np.left_shift(np.uint64(1), result[kept].astype(np.uint64))
+    ea, eb = ends_a[kept], ends_b[kept]
+    np.bitwise_or.at(used, ea, bits)
+    np.bitwise_or.at(used, eb, bits)
+    # Distinct powers of two add up to their OR; a repeated colour makes the sum differ.
+    summed = np.zeros(total + 1, np.uint64)
+    np.add.at(summed, ea, bits)
+    np.add.at(summed, eb, bits)
+    clash = summed != used
+    clash[total] = False
+    if clash.any():
+        result[kept[clash[ea] | clash[eb]]] = -1
+        return _used_colours(result, ends_a, ends_b, total)
+    used[total] = 0
+    return used
+
+
 @dataclass
 class Cache:
-    """Accumulated impulses by point key, sorted by key, for warm starting."""
+    """What a point carries to the next step, by point key (sorted): its accumulated
+    impulses (warm start) and its colour."""
 
     keys: np.ndarray
     normal_impulse: np.ndarray
     tangent_impulse: np.ndarray
+    colour: np.ndarray
 
     @staticmethod
     def empty() -> Cache:
-        return Cache(np.zeros(0, np.int64), np.zeros(0), np.zeros(0))
+        return Cache(np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros(0, np.int64))
 
     def take(self, rows: np.ndarray) -> Cache:
-        return Cache(self.keys[rows], self.normal_impulse[rows], self.tangent_impulse[rows])
+        return Cache(
+            self.keys[rows],
+            self.normal_impulse[rows],
+            self.tangent_impulse[rows],
+            self.colour[rows],
+        )
 
-    def lookup(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Impulses stored for ``keys`` (0 where a key is new)."""
+    def lookup(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Impulses and colour stored for ``keys`` (0, 0 and -1 where a key is new)."""
         if self.keys.size == 0:
-            return np.zeros(keys.size), np.zeros(keys.size)
+            return np.zeros(keys.size), np.zeros(keys.size), np.full(keys.size, -1)
         where = np.minimum(np.searchsorted(self.keys, keys), self.keys.size - 1)
         found = self.keys[where] == keys
         return (
             np.where(found, self.normal_impulse[where], 0.0),
             np.where(found, self.tangent_impulse[where], 0.0),
+            np.where(found, self.colour[where], -1),
         )
 
     @staticmethod
     def merge(first: Cache, second: Cache) -> Cache:
         """Union of two caches with disjoint keys, sorted."""
+        if second.keys.size == 0:
+            return first
         keys = np.concatenate([first.keys, second.keys])
         order = np.argsort(keys, kind="stable")
         return Cache(
             keys[order],
             np.concatenate([first.normal_impulse, second.normal_impulse])[order],
             np.concatenate([first.tangent_impulse, second.tangent_impulse])[order],
+            np.concatenate([first.colour, second.colour])[order],
         )
 
 
@@ -196,7 +242,8 @@ class Contacts:
     inv_t: np.ndarray
     normal_mass: np.ndarray
     tangent_mass: np.ndarray
-    base_separation: np.ndarray
+    separation: np.ndarray  # at the start of the step
+    base_separation: np.ndarray  # separation = base + J . pose during the step
     relative_velocity: np.ndarray
     relative_acceleration: np.ndarray  # normal, from gravity and applied forces
     restitution: np.ndarray
@@ -210,14 +257,22 @@ class Contacts:
     anchor_ax: np.ndarray
     anchor_ay: np.ndarray
     bounds: np.ndarray
+    colour: np.ndarray  # of each point, in colour order
+    order: np.ndarray | None  # colour order -> key order (None: already in key order)
 
     @property
     def size(self) -> int:
         return int(self.key.size)
 
     def cache(self) -> Cache:
-        order = np.argsort(self.key, kind="stable")
-        return Cache(self.key[order], self.normal_impulse[order], self.tangent_impulse[order])
+        """The points' impulses and colours by key (the points arrived sorted by key)."""
+        if self.order is None:
+            return Cache(self.key, self.normal_impulse, self.tangent_impulse, self.colour)
+        back = np.empty_like(self.order)
+        back[self.order] = np.arange(self.order.size)
+        return Cache(
+            self.key[back], self.normal_impulse[back], self.tangent_impulse[back], self.colour[back]
+        )
 
 
 def build(
@@ -225,88 +280,102 @@ def build(
     local_key: np.ndarray,
     body_a: np.ndarray,
     body_b: np.ndarray,
-    normal_x: np.ndarray,
-    normal_y: np.ndarray,
-    anchor_a: tuple[np.ndarray, np.ndarray],
-    anchor_b: tuple[np.ndarray, np.ndarray],
-    separation: np.ndarray,
+    points: Points,
     bodies: dict[str, np.ndarray],
-    cache: Cache,
+    carried: tuple[np.ndarray, np.ndarray, np.ndarray],
     rules: tuple[str, str],
     softness: tuple[tuple[float, float, float], tuple[float, float, float]],
+    h: float,
 ) -> Contacts:
     """Turn narrowphase points into colour-sorted constraints.
 
-    ``bodies`` holds flat per-body arrays: ``inv_mass``, ``inv_moment``, ``restitution``,
-    ``friction``, ``movable`` (bool: dynamic and awake), and the ``(3, T)`` ``vel`` and
-    ``accel`` (acceleration from gravity and applied forces).
-    ``softness`` is ``(dynamic pair, pair with an immovable body)``.
+    ``bodies`` holds flat per-body arrays: ``inv_mass`` and ``inv_moment`` (0 for bodies
+    that cannot move this step), ``movable`` (bool), ``restitution``, ``friction``, and
+    the ``(3, T)`` ``pose``, ``vel`` and ``accel_h`` (``h`` times the acceleration from
+    gravity and applied forces, ``h`` the substep).
+    ``carried`` is what the cache holds for the points (impulses and colour, see
+    ``Cache.lookup``). ``softness`` is ``(between dynamic bodies, against an immovable
+    body)``.
     """
     total = bodies["inv_mass"].size
-    rax, ray = anchor_a
-    rbx, rby = anchor_b
-    nx, ny = normal_x, normal_y
+    movable = bodies["movable"]
+    normal_impulse, tangent_impulse, previous = carried
+    colours = colour(body_a, body_b, ~movable[body_a], ~movable[body_b], local_key, total, previous)
+    fields = [
+        normal_impulse,
+        tangent_impulse,
+        colours,
+        point_key,
+        body_a,
+        body_b,
+        points.normal_x,
+        points.normal_y,
+        points.anchor_ax,
+        points.anchor_ay,
+        points.anchor_bx,
+        points.anchor_by,
+        points.separation,
+    ]
+    order = None
+    if not colours.any():  # one colour: already in order
+        bounds = np.array([0, colours.size])
+    else:
+        order = np.argsort(colours, kind="stable")
+        fields = [array[order] for array in fields]
+        bounds = np.concatenate([[0], np.cumsum(np.bincount(colours))])
+    normal_impulse, tangent_impulse, colours, key, a, b, nx, ny, rax, ray, rbx, rby = fields[:12]
+    separation = fields[12]
     tx, ty = ny, -nx
-    movable_a, movable_b = bodies["movable"][body_a], bodies["movable"][body_b]
-    ima = np.where(movable_a, bodies["inv_mass"][body_a], 0.0)
-    imb = np.where(movable_b, bodies["inv_mass"][body_b], 0.0)
-    iia = np.where(movable_a, bodies["inv_moment"][body_a], 0.0)
-    iib = np.where(movable_b, bodies["inv_moment"][body_b], 0.0)
+    ima, imb = bodies["inv_mass"][a], bodies["inv_mass"][b]
+    iia, iib = bodies["inv_moment"][a], bodies["inv_moment"][b]
     rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
     rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
-    k_normal = ima + imb + iia * rna * rna + iib * rnb * rnb
-    k_tangent = ima + imb + iia * rta * rta + iib * rtb * rtb
     jac_n = np.stack([-nx, -ny, -rna, nx, ny, rnb])
-    inv_n = np.stack([-ima * nx, -ima * ny, -iia * rna, imb * nx, imb * ny, iib * rnb])
     jac_t = np.stack([-tx, -ty, -rta, tx, ty, rtb])
-    inv_t = np.stack([-ima * tx, -ima * ty, -iia * rta, imb * tx, imb * ty, iib * rtb])
-    index6 = np.stack(
-        [body_a, body_a + total, body_a + 2 * total, body_b, body_b + total, body_b + 2 * total]
-    )
-    velocity = bodies["vel"].reshape(-1)[index6]
-    relative_velocity = (jac_n * velocity).sum(axis=0)
-    relative_acceleration = (jac_n * bodies["accel"].reshape(-1)[index6]).sum(axis=0)
-    normal_impulse, tangent_impulse = cache.lookup(point_key)
-    restitution = mix(rules[0], bodies["restitution"][body_a], bodies["restitution"][body_b])
-    friction = mix(rules[1], bodies["friction"][body_a], bodies["friction"][body_b])
-    both = movable_a & movable_b
+    inverse = np.stack([ima, ima, iia, imb, imb, iib])  # the diagonal of M^-1, per end
+    inv_n, inv_t = inverse * jac_n, inverse * jac_t
+    k_normal = (jac_n * inv_n).sum(axis=0)  # J M^-1 J^T
+    k_tangent = (jac_t * inv_t).sum(axis=0)
+    index6 = np.stack([a, a + total, a + 2 * total, b, b + total, b + 2 * total])
+    relative_velocity = (jac_n * bodies["vel"].reshape(-1)[index6]).sum(axis=0)
+    if bodies["accel_h"] is None:  # no gravity, no applied forces
+        relative_acceleration = np.zeros(key.size)
+    else:
+        relative_acceleration = (jac_n * bodies["accel_h"].reshape(-1)[index6]).sum(axis=0) / h
+    # Separation as the solver tracks it: base + J . pose, with base fixed for the step.
+    base = separation - (jac_n * bodies["pose"].reshape(-1)[index6]).sum(axis=0)
+    both = movable[a] & movable[b]
     soft = [np.where(both, softness[0][i], softness[1][i]) for i in range(3)]
-
-    colours = colour(body_a, body_b, ~movable_a, ~movable_b, priority(local_key), total)
-    order = np.argsort(colours, kind="stable")
-    counts = np.bincount(colours, minlength=1) if colours.size else np.zeros(0, np.int64)
-    bounds = np.concatenate([[0], np.cumsum(counts)])
-
-    def by_colour(array: np.ndarray) -> np.ndarray:
-        return array[..., order]
-
     return Contacts(
-        key=by_colour(point_key),
-        body_a=by_colour(body_a),
-        body_b=by_colour(body_b),
-        index6=by_colour(index6),
-        normal_x=by_colour(nx),
-        normal_y=by_colour(ny),
-        jac_n=by_colour(jac_n),
-        inv_n=by_colour(inv_n),
-        jac_t=by_colour(jac_t),
-        inv_t=by_colour(inv_t),
-        normal_mass=by_colour(_inverse(k_normal)),
-        tangent_mass=by_colour(_inverse(k_tangent)),
-        base_separation=by_colour(separation),
-        relative_velocity=by_colour(relative_velocity),
-        relative_acceleration=by_colour(relative_acceleration),
-        restitution=by_colour(restitution),
-        friction=by_colour(friction),
-        bias_rate=by_colour(soft[0]),
-        mass_scale=by_colour(soft[1]),
-        impulse_scale=by_colour(soft[2]),
-        normal_impulse=by_colour(normal_impulse),
-        tangent_impulse=by_colour(tangent_impulse),
-        max_normal_impulse=np.zeros(point_key.size),
-        anchor_ax=by_colour(rax),
-        anchor_ay=by_colour(ray),
+        key=key,
+        body_a=a,
+        body_b=b,
+        index6=index6,
+        normal_x=nx,
+        normal_y=ny,
+        jac_n=jac_n,
+        inv_n=inv_n,
+        jac_t=jac_t,
+        inv_t=inv_t,
+        normal_mass=_inverse(k_normal),
+        tangent_mass=_inverse(k_tangent),
+        separation=separation,
+        base_separation=base,
+        relative_velocity=relative_velocity,
+        relative_acceleration=relative_acceleration,
+        restitution=mix(rules[0], bodies["restitution"][a], bodies["restitution"][b]),
+        friction=mix(rules[1], bodies["friction"][a], bodies["friction"][b]),
+        bias_rate=soft[0],
+        mass_scale=soft[1],
+        impulse_scale=soft[2],
+        normal_impulse=normal_impulse,
+        tangent_impulse=tangent_impulse,
+        max_normal_impulse=np.zeros(key.size),
+        anchor_ax=rax,
+        anchor_ay=ray,
         bounds=bounds,
+        colour=colours,
+        order=order,
     )
 
 

@@ -76,6 +76,10 @@ class Points:
     separation: np.ndarray
     feature: np.ndarray  # int64 in [0, FEATURES)
 
+    def take(self, rows: np.ndarray) -> Points:
+        names = Points.__dataclass_fields__
+        return Points(**{name: getattr(self, name)[rows] for name in names})
+
     @staticmethod
     def concatenate(parts: list[Points]) -> Points:
         names = Points.__dataclass_fields__

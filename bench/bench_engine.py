@@ -1,0 +1,737 @@
+"""Speed benchmark: impulse2d against pymunk (C Chipmunk2D) on the shared scenes, in one run.
+
+The scenes come from ``bench/scenes.py`` and the pymunk side from ``bench/pymunk_peer.py``;
+this module builds the same scenes in impulse2d, times both engines in the same process and
+prints one table with the two side by side and their ratio (always impulse2d / pymunk, so
+for a rate higher is better and for a time lower is better).
+
+* Pool break (16 balls, dt = 1/120, 1,200 steps) at 1 world and at ``--worlds`` worlds
+  (default 1,024): world-steps/s and us per world-step, with impulse2d's default sleeping
+  on and, as a second row, with sleeping off (pymunk never sleeps). impulse2d steps the
+  whole batch at once (``World.replicate``); pymunk steps one ``Space`` per world.
+* Box pyramids of base 10 and 20 (dt = 1/60): ms/step over 300 steps, and the top box's
+  drift after 600 steps (10 s), impulse2d with sleeping off and its default 4 substeps.
+
+Checks printed with the table: momentum of the pool break against the analytic
+``P0 exp(-drag t)`` until the first cushion contact, every ball on the table and finite,
+the largest ball-ball overlap and cushion penetration seen during the break, and that
+world 0 of the batch ends bitwise equal to the single world.
+
+Run ``python bench/bench_engine.py`` (about a minute on 2 cores), ``--quick`` for a smoke
+test, ``--positions`` for the final ball positions of both engines, ``--profile`` for a
+cProfile of pool steps.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import math
+import os
+import platform
+import pstats
+import statistics
+import sys
+import time
+from collections.abc import Iterable, Iterator
+from typing import Any
+
+import numpy as np
+
+import impulse2d as p2
+
+try:  # imported as part of the repo (``bench.bench_engine``) ...
+    from bench import pymunk_peer
+    from bench.scenes import PoolBreak, Pyramid, pool_break, pyramid, validate
+except ImportError:  # ... or run as a script, with bench/ on sys.path
+    import pymunk_peer
+    from scenes import PoolBreak, Pyramid, pool_break, pyramid, validate
+
+# -- impulse2d settings ----------------------------------------------------------------------
+POOL_SUBSTEPS = 2  # solver substeps per pool step (to be tuned)
+POOL_RESTITUTION_THRESHOLD = 0.05  # m/s: no gravity, so no resting jitter; slow hits bounce
+PYRAMID_SUBSTEPS = 4  # impulse2d's default
+PYRAMID_SLEEPING = False  # the drift is measured on awake boxes, and so is the timing
+
+# -- benchmark settings ----------------------------------------------------------------------
+DEFAULT_WORLDS = 1024
+BATCH_BUDGET_S = 90.0  # a batch run stops early (timing a prefix of the break) past this
+SINGLE_REPEATS = 5  # single-world impulse2d runs; the median is reported
+PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
+PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
+MEAN_STEP_TARGET_US = 100.0
+PYRAMID_RATIO_TARGET = 5.0
+
+
+# -- progress (tqdm if installed, otherwise nothing) ------------------------------------------
+_SHOW_PROGRESS = True
+
+
+def _progress(iterable: Iterable[Any], total: int, desc: str) -> Iterator[Any]:
+    """Wrap ``iterable`` in a tqdm bar on stderr when tqdm is installed and wanted."""
+    if _SHOW_PROGRESS:
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            pass
+        else:
+            # disable=None: no bar when stderr is not a terminal (a log file stays clean).
+            yield from tqdm(iterable, total=total, desc=desc, leave=False, disable=None)
+            return
+    yield from iterable
+
+
+def _stage(text: str) -> None:
+    """Say what is running (stderr, so the table on stdout stays clean)."""
+    if _SHOW_PROGRESS:
+        print(f"... {text}", file=sys.stderr, flush=True)
+
+
+# -- pool break ------------------------------------------------------------------------------
+def _pool_world(
+    scene: PoolBreak, substeps: int, sleeping: bool
+) -> tuple[p2.World, list[int], list[int]]:
+    """One impulse2d world of the pool break; returns it and the ``bodies`` indices of the
+    balls (scene order) and of the cushions."""
+    world = p2.World(
+        gravity=scene.gravity,
+        substeps=substeps,
+        restitution_mixing="min",  # balls 0.95, cushions 0.75: ball-ball 0.95, ball-cushion 0.75
+        friction_mixing="sqrt",
+        restitution_threshold=POOL_RESTITUTION_THRESHOLD,
+        sleeping=sleeping,
+    )
+    cushions = [
+        world.add(
+            p2.Box(
+                position=box.center,
+                width=2 * box.half_extents[0],
+                height=2 * box.half_extents[1],
+                mass=1.0,
+                fixed=True,
+                restitution=scene.restitution_ball_cushion,
+                friction=scene.friction,
+            )
+        )
+        for box in scene.cushions
+    ]
+    balls = [
+        world.add(
+            p2.Circle(
+                position=(float(p[0]), float(p[1])),
+                velocity=(float(v[0]), float(v[1])),
+                radius=scene.ball_radius,
+                mass=scene.ball_mass,
+                restitution=scene.restitution_ball_ball,
+                friction=scene.friction,
+                linear_drag=scene.linear_drag,
+            )
+        )
+        for p, v in zip(scene.positions, scene.velocities, strict=True)
+    ]
+    index = {id(body): i for i, body in enumerate(world.bodies)}
+    return world, [index[id(b)] for b in balls], [index[id(c)] for c in cushions]
+
+
+def _positions(world: p2.World, indices: list[int]) -> np.ndarray:
+    """Positions of the bodies ``world.bodies[indices]``: (n, 2), or (n, B, 2) in a batch."""
+    bodies = world.bodies
+    return np.array([bodies[i].position for i in indices], dtype=np.float64)
+
+
+def _velocities(world: p2.World, indices: list[int]) -> np.ndarray:
+    bodies = world.bodies
+    return np.array([bodies[i].velocity for i in indices], dtype=np.float64)
+
+
+def pool_break_impulse2d(
+    n_worlds: int = 1,
+    steps: int = 1200,
+    substeps: int = POOL_SUBSTEPS,
+    sleeping: bool = True,
+    *,
+    budget_s: float | None = None,
+) -> dict:
+    """Time ``n_worlds`` impulse2d pool-break worlds, stepped as one batch, for ``steps`` steps.
+
+    A warm-up step runs first on a separate world (a batch of two for a batch run), so
+    first-call costs stay out of the timing; the timed world starts fresh, as in pymunk.
+    With ``budget_s``, stepping stops once that much time has passed (a prefix of the break
+    is timed); ``steps`` in the result says how many steps were done.
+
+    Returns ``world_steps_per_s``, ``seconds``, ``steps``, ``step_us`` (duration of every
+    step, single world only, else None), ``final_positions`` of world 0 (n_balls, 2),
+    ``worlds_identical`` (every world of the batch ends exactly as world 0) and ``finite``.
+    """
+    scene = pool_break()
+    validate(scene)
+    dt = scene.dt
+
+    warm, _, _ = _pool_world(scene, substeps, sleeping)
+    (warm.replicate(2) if n_worlds > 1 else warm).step(dt)
+
+    world, balls, _ = _pool_world(scene, substeps, sleeping)
+    if n_worlds > 1:
+        world = world.replicate(n_worlds)
+
+    step = world.step
+    clock = time.perf_counter
+    step_us = None
+    if n_worlds == 1:
+        # Per-step durations for the mean/median/max; a clock read costs ~0.1 us a step.
+        stamps = np.empty(steps + 1)
+        stamps[0] = clock()
+        for k in range(steps):
+            step(dt)
+            stamps[k + 1] = clock()
+        done = steps
+        seconds = float(stamps[-1] - stamps[0])
+        step_us = 1e6 * np.diff(stamps)
+    else:
+        done = 0
+        t0 = clock()
+        for _ in _progress(range(steps), steps, f"impulse2d {n_worlds} worlds"):
+            step(dt)
+            done += 1
+            if budget_s is not None and clock() - t0 > budget_s:
+                break
+        seconds = clock() - t0
+
+    final = _positions(world, balls)  # (n, 2) or (n, B, 2)
+    identical = True
+    if n_worlds > 1:
+        identical = bool(np.all(final == final[:, :1, :]))
+        final = final[:, 0, :]
+    return {
+        "world_steps_per_s": n_worlds * done / seconds,
+        "seconds": seconds,
+        "steps": done,
+        "step_us": step_us,
+        "final_positions": final,
+        "worlds_identical": identical,
+        "finite": bool(np.all(np.isfinite(final))),
+    }
+
+
+def pool_check_impulse2d(
+    steps: int = 1200, substeps: int = POOL_SUBSTEPS, sleeping: bool = True
+) -> dict:
+    """Replay one impulse2d pool break untimed and measure what the timing cannot.
+
+    * ``momentum_error``: until the first cushion contact (cushions are external forces)
+      the total momentum must equal ``P0 exp(-drag t)``; the largest deviation relative
+      to ``|P0|``, over ``momentum_window_s`` seconds.
+    * ``max_overlap_m``: the deepest ball-ball overlap seen after any step;
+      ``max_penetration_m``: the deepest a ball reached past the play-area edge (into
+      a cushion).
+    * ``energy_gain``: drag scales kinetic energy by ``exp(-2 drag t)`` and collisions with
+      ``e <= 1`` can only remove energy, so ``KE(t) / (KE0 exp(-2 drag t))`` must stay
+      <= 1; the largest value seen, and ``energy_gain_step``, the step where it occurred.
+    * ``final_positions``, ``on_table`` (balls whose centres end inside the play area),
+      ``finite``.
+    """
+    scene = pool_break()
+    world, balls, cushions = _pool_world(scene, substeps, sleeping)
+    r, dt, drag = scene.ball_radius, scene.dt, scene.linear_drag
+    half = np.array(scene.play_area) / 2
+    upper = np.triu(np.ones((len(balls), len(balls)), dtype=bool), k=1)
+    cushion_slots = np.array([world.bodies[i].slot for i in cushions])
+
+    p0 = scene.ball_mass * scene.velocities.sum(axis=0)
+    worst, window, touched = 0.0, 0.0, False
+    max_overlap, max_penetration = 0.0, 0.0
+    ke0 = _kinetic(scene.ball_mass, scene.velocities)
+    gain, gain_step = 1.0, 0
+    for k in range(1, steps + 1):
+        world.step(dt)
+        ratio = _kinetic(scene.ball_mass, _velocities(world, balls)) / (
+            ke0 * math.exp(-2 * drag * k * dt)
+        )
+        if ratio > gain:
+            gain, gain_step = ratio, k
+        pos = _positions(world, balls)
+        dist = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1)
+        max_overlap = max(max_overlap, float((2 * r - dist)[upper].max()))
+        max_penetration = max(max_penetration, float((np.abs(pos) + r - half).max()))
+        if not touched:
+            c = world.last_contacts
+            if c is not None and c.size:
+                # Single world: flat body index == slot.
+                on_cushion = np.isin(c.body_a, cushion_slots) | np.isin(c.body_b, cushion_slots)
+                pushed = (c.max_normal_impulse > 0.0) | (c.normal_impulse > 0.0)
+                touched = bool(np.any(on_cushion & pushed))
+            if not touched:
+                momentum = scene.ball_mass * _velocities(world, balls).sum(axis=0)
+                expected = p0 * math.exp(-drag * k * dt)
+                worst = max(worst, float(np.linalg.norm(momentum - expected)))
+                window = k * dt
+    final = _positions(world, balls)
+    return {
+        "momentum_error": worst / float(np.linalg.norm(p0)),
+        "momentum_window_s": window,
+        "energy_gain": gain,
+        "energy_gain_step": gain_step,
+        "max_overlap_m": max(max_overlap, 0.0),
+        "max_penetration_m": max(max_penetration, 0.0),
+        "final_positions": final,
+        "on_table": int(np.sum(np.all(np.abs(final) < half, axis=1))),
+        "finite": bool(np.all(np.isfinite(final))),
+    }
+
+
+def _kinetic(mass: float, velocities: np.ndarray) -> float:
+    """Translational kinetic energy of equal-mass balls (friction 0: they never spin)."""
+    return 0.5 * mass * float(np.sum(np.square(velocities)))
+
+
+def pool_energy_pymunk(steps: int = 1200) -> tuple[float, int]:
+    """The same energy check as :func:`pool_check_impulse2d` on an untimed pymunk replay:
+    the largest ``KE(t) / (KE0 exp(-2 drag t))`` and the step where it occurred."""
+    scene = pool_break()
+    space, balls = pymunk_peer._pool_space(scene)
+    ke0 = _kinetic(scene.ball_mass, scene.velocities)
+    gain, gain_step = 1.0, 0
+    for k in range(1, steps + 1):
+        space.step(scene.dt)
+        v = np.array([tuple(b.velocity) for b in balls])
+        ratio = _kinetic(scene.ball_mass, v) / (
+            ke0 * math.exp(-2 * scene.linear_drag * k * scene.dt)
+        )
+        if ratio > gain:
+            gain, gain_step = ratio, k
+    return gain, gain_step
+
+
+def _single_positions(steps: int, substeps: int, sleeping: bool) -> np.ndarray:
+    """Final ball positions of one world after ``steps`` steps (untimed)."""
+    scene = pool_break()
+    world, balls, _ = _pool_world(scene, substeps, sleeping)
+    for _ in range(steps):
+        world.step(scene.dt)
+    return _positions(world, balls)
+
+
+# -- pyramid ---------------------------------------------------------------------------------
+def _pyramid_world(scene: Pyramid) -> tuple[p2.World, list[int]]:
+    """The pyramid in impulse2d; returns the world and the ``bodies`` indices of the boxes."""
+    world = p2.World(gravity=scene.gravity, substeps=PYRAMID_SUBSTEPS, sleeping=PYRAMID_SLEEPING)
+    g = scene.ground
+    world.add(
+        p2.Box(
+            position=g.center,
+            width=2 * g.half_extents[0],
+            height=2 * g.half_extents[1],
+            mass=1.0,
+            fixed=True,
+            friction=scene.friction,
+            restitution=scene.restitution,
+        )
+    )
+    boxes = [
+        world.add(
+            p2.Box(
+                position=(float(p[0]), float(p[1])),
+                width=scene.box_size,
+                height=scene.box_size,
+                mass=scene.box_mass,
+                friction=scene.friction,
+                restitution=scene.restitution,
+            )
+        )
+        for p in scene.positions
+    ]
+    index = {id(body): i for i, body in enumerate(world.bodies)}
+    return world, [index[id(b)] for b in boxes]
+
+
+def pyramid_impulse2d(
+    base: int, steps: int = 300, drift_steps: int = 600, *, repeats: int = 1
+) -> dict:
+    """Time the first ``steps`` steps of an impulse2d box pyramid, then measure its drift.
+
+    Mirrors :func:`pymunk_peer.pyramid_pymunk`: after a warm-up step on a separate world,
+    a fresh world is timed from its first step (median of ``repeats`` fresh worlds), and
+    one of them continues untimed to ``drift_steps``; ``top_drift_m`` is how far the top
+    box's centre has moved from its start, ``max_drift_m`` the largest over all boxes.
+    """
+    scene = pyramid(base)
+    validate(scene)
+    warm, _ = _pyramid_world(scene)
+    warm.step(scene.dt)
+
+    timings = []
+    for _ in range(repeats):
+        world, boxes = _pyramid_world(scene)
+        step, dt = world.step, scene.dt
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            step(dt)
+        timings.append(time.perf_counter() - t0)
+    for _ in range(steps, drift_steps):
+        step(dt)
+
+    pos = _positions(world, boxes)
+    drift = np.linalg.norm(pos - scene.positions, axis=1)
+    return {
+        "ms_per_step": 1000 * statistics.median(timings) / steps,
+        "top_drift_m": float(drift[scene.top_index]),
+        "max_drift_m": float(drift.max()),
+        "finite": bool(np.all(np.isfinite(pos))),
+    }
+
+
+# -- profile ---------------------------------------------------------------------------------
+def profile_pool(n_worlds: int, start: int, steps: int, top: int = 15) -> str:
+    """cProfile of ``steps`` pool steps of ``n_worlds`` worlds after ``start`` unprofiled steps,
+    sorted by tottime; returns the report text."""
+    scene = pool_break()
+    world, _, _ = _pool_world(scene, POOL_SUBSTEPS, True)
+    if n_worlds > 1:
+        world = world.replicate(n_worlds)
+    for _ in range(start):
+        world.step(scene.dt)
+    profiler = cProfile.Profile()
+    profiler.enable()
+    for _ in range(steps):
+        world.step(scene.dt)
+    profiler.disable()
+    out = io.StringIO()
+    pstats.Stats(profiler, stream=out).sort_stats("tottime").print_stats(top)
+    head = f"cProfile: {n_worlds} world(s), {steps} step(s) from step {start}, sleeping on\n"
+    return head + out.getvalue()
+
+
+# -- table -----------------------------------------------------------------------------------
+def _fmt(value: float | None, digits: int = 3) -> str:
+    """A number for the table: thousands separators for big ones, 3 significant digits else."""
+    if value is None:
+        return "-"
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, str):
+        return value
+    if not math.isfinite(value):
+        return str(value)
+    if abs(value) >= 1000:
+        return f"{value:,.0f}"
+    return f"{value:.{digits}g}"
+
+
+def _ratio(a: float | None, b: float | None) -> str:
+    if a is None or b is None or b == 0:
+        return "-"
+    return f"{a / b:.3g}"
+
+
+def _print_table(rows: list[tuple[str, ...]]) -> None:
+    header = ("scene", "worlds", "impulse2d", "pymunk", "ratio", "notes")
+    align = ("<", ">", ">", ">", ">", "<")
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
+
+    def line(cells: tuple[str, ...]) -> str:
+        return "  ".join(f"{c:{a}{w}}" for c, a, w in zip(cells, align, widths, strict=True))
+
+    print(line(header).rstrip())
+    print("  ".join("-" * w for w in widths))
+    for row in rows:
+        print(line(row).rstrip())
+
+
+def _source_version() -> str:
+    """Where impulse2d is imported from and its git commit (``+dirty`` with local changes)."""
+    import subprocess
+
+    root = os.path.dirname(os.path.abspath(p2.__file__))
+    try:
+        rev = subprocess.run(
+            ["git", "-C", root, "describe", "--always", "--dirty=+dirty"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+            check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        rev = "no git"
+    return f"impulse2d from {root} ({rev})"
+
+
+def _ok(flag: bool) -> str:
+    return "ok" if flag else "MISS"
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run every benchmark and print the table."""
+    global _SHOW_PROGRESS
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="short smoke test")
+    parser.add_argument("--worlds", type=int, default=None, help="worlds in the batch run")
+    parser.add_argument(
+        "--budget", type=float, default=BATCH_BUDGET_S, help="seconds per impulse2d batch run"
+    )
+    parser.add_argument("--positions", action="store_true", help="print final ball positions")
+    parser.add_argument("--profile", action="store_true", help="cProfile pool steps and exit")
+    parser.add_argument("--no-progress", action="store_true", help="no progress output")
+    args = parser.parse_args(argv)
+    _SHOW_PROGRESS = not args.no_progress
+
+    if args.profile:
+        print(profile_pool(args.worlds or DEFAULT_WORLDS, start=30, steps=5))
+        print(profile_pool(1, start=30, steps=100))
+        return
+
+    t_start = time.perf_counter()
+    scene = pool_break()
+    validate(scene)
+    pool_steps = 120 if args.quick else scene.steps
+    n_worlds = args.worlds or (64 if args.quick else DEFAULT_WORLDS)
+    pyr_steps, drift_steps = (60, 120) if args.quick else (300, 600)
+    single_repeats = 3 if args.quick else SINGLE_REPEATS
+    dt_pyr = pyramid(1).dt
+
+    import pymunk
+
+    print("impulse2d vs pymunk" + (" (--quick)" if args.quick else ""))
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, pymunk {pymunk.version} "
+        f"(Chipmunk {pymunk.chipmunk_version[:5]}), {os.cpu_count()} CPUs"
+    )
+    print(_source_version())
+    print(scene.describe().replace(f"{scene.steps} steps", f"{pool_steps} steps"))
+    print(
+        f"  impulse2d: substeps={POOL_SUBSTEPS}, restitution_mixing='min', "
+        f"restitution_threshold={POOL_RESTITUTION_THRESHOLD} m/s, friction 0; sleeping on "
+        "(its default: resting balls sleep and cost nothing; what RL users get), plus "
+        "'no sleep' rows with sleeping=False"
+    )
+    print(
+        "  pymunk: one Space per world, stepped world by world; 10 iterations, sleeping off; "
+        "impulse2d: the whole batch in one World.step"
+    )
+    print(
+        f"pyramids: dt=1/{1 / dt_pyr:.0f}, {pyr_steps} timed steps, drift of the top box after "
+        f"{drift_steps} steps ({drift_steps * dt_pyr:g} s); impulse2d substeps="
+        f"{PYRAMID_SUBSTEPS}, sleeping={PYRAMID_SLEEPING}; pymunk 10 iterations"
+    )
+    print(
+        "timing: perf_counter around the stepping only, after a warm-up step on a separate "
+        f"world; single-world pool: median of {single_repeats} (impulse2d) / "
+        f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; pyramids: median of {PYRAMID_REPEATS}"
+    )
+
+    rows: list[tuple[str, ...]] = []
+    imp: dict[tuple[int, bool], dict] = {}
+
+    # -- pool break, single world ------------------------------------------------------------
+    for sleeping in (True, False):
+        _stage(f"impulse2d pool break, 1 world, sleeping={sleeping}")
+        runs = [
+            pool_break_impulse2d(1, pool_steps, POOL_SUBSTEPS, sleeping)
+            for _ in range(single_repeats)
+        ]
+        deterministic = all(
+            np.array_equal(r["final_positions"], runs[0]["final_positions"]) for r in runs
+        )
+        res = sorted(runs, key=lambda r: r["seconds"])[single_repeats // 2]
+        res["deterministic"] = deterministic
+        imp[(1, sleeping)] = res
+    _stage("pymunk pool break, 1 world")
+    pm_runs = [pymunk_peer.pool_break_pymunk(1, pool_steps) for _ in range(PYMUNK_SINGLE_REPEATS)]
+    pm1 = sorted(pm_runs, key=lambda r: r["seconds"])[PYMUNK_SINGLE_REPEATS // 2]
+
+    # -- pool break, batch -------------------------------------------------------------------
+    for sleeping in (True, False):
+        _stage(f"impulse2d pool break, {n_worlds} worlds, sleeping={sleeping}")
+        imp[(n_worlds, sleeping)] = pool_break_impulse2d(
+            n_worlds, pool_steps, POOL_SUBSTEPS, sleeping, budget_s=args.budget
+        )
+    batch_steps = min(imp[(n_worlds, s)]["steps"] for s in (True, False))
+    _stage(f"pymunk pool break, {n_worlds} worlds, {batch_steps} steps")
+    pmN = pymunk_peer.pool_break_pymunk(n_worlds, batch_steps)
+
+    def pool_rows(n: int, pm: dict) -> None:
+        for sleeping in (True, False):
+            r = imp[(n, sleeping)]
+            tag = "" if sleeping else ", no sleep"
+            who = "impulse2d sleeping on" if sleeping else "impulse2d sleeping=False"
+            partial = (
+                f"; first {r['steps']} of {pool_steps} steps (budget {args.budget:g} s)"
+                if r["steps"] < pool_steps
+                else f"; {r['steps']} steps"
+            )
+            if n > 1 and pm is pmN and batch_steps != r["steps"]:
+                partial += f"; pymunk {batch_steps} steps"
+            ws_i, ws_p = r["world_steps_per_s"], pm["world_steps_per_s"]
+            rows.append(
+                (
+                    f"pool break{tag}: world-steps/s",
+                    str(n),
+                    _fmt(ws_i),
+                    _fmt(ws_p),
+                    _ratio(ws_i, ws_p),
+                    who + partial,
+                )
+            )
+            rows.append(
+                (
+                    f"pool break{tag}: us/world-step",
+                    str(n),
+                    _fmt(1e6 / ws_i),
+                    _fmt(1e6 / ws_p),
+                    _ratio(1e6 / ws_i, 1e6 / ws_p),
+                    "lower is better",
+                )
+            )
+            if n == 1:
+                us = r["step_us"]
+                mean = float(us.mean())
+                rows.append(
+                    (
+                        f"pool break{tag}: mean us/step",
+                        "1",
+                        _fmt(mean),
+                        "-",
+                        "-",
+                        f"target < {MEAN_STEP_TARGET_US:g} us: {_ok(mean < MEAN_STEP_TARGET_US)}; "
+                        f"median {np.median(us):.0f}, max {us.max():.0f} us "
+                        f"(step {int(us.argmax()) + 1})",
+                    )
+                )
+
+    pool_rows(1, pm1)
+    pool_rows(n_worlds, pmN)
+
+    for sleeping in (True, False):
+        r = imp[(n_worlds, sleeping)]
+        if r["steps"] == pool_steps:
+            single = imp[(1, sleeping)]["final_positions"]
+        else:
+            _stage(f"impulse2d single-world replay of {r['steps']} steps")
+            single = _single_positions(r["steps"], POOL_SUBSTEPS, sleeping)
+        equal = bool(np.array_equal(r["final_positions"], single))
+        diff = float(np.abs(r["final_positions"] - single).max())
+        tag = "" if sleeping else ", no sleep"
+        rows.append(
+            (
+                f"pool break{tag}: world 0 == 1 world",
+                str(n_worlds),
+                str(equal),
+                "-",
+                "-",
+                f"bitwise, after {r['steps']} steps (max |diff| {diff:.3g} m); all {n_worlds} "
+                f"worlds identical: {r['worlds_identical']}; 1-world repeats identical: "
+                f"{imp[(1, sleeping)]['deterministic']}",
+            )
+        )
+
+    # -- pool break checks -------------------------------------------------------------------
+    _stage("impulse2d pool break, untimed check replay")
+    chk = pool_check_impulse2d(pool_steps, POOL_SUBSTEPS, True)
+    replay_same = bool(np.array_equal(chk["final_positions"], imp[(1, True)]["final_positions"]))
+    rows.append(
+        (
+            "pool break: momentum rel. error",
+            "1",
+            f"{chk['momentum_error']:.1e}",
+            f"{pm1['momentum_error']:.1e}",
+            "-",
+            f"vs P0 exp(-0.7 t) until first cushion contact: {chk['momentum_window_s']:.3f} s "
+            f"(pymunk {pm1['momentum_window_s']:.3f} s)",
+        )
+    )
+    pm_gain, pm_gain_step = pool_energy_pymunk(pool_steps)
+    rows.append(
+        (
+            "pool break: max energy gain",
+            "1",
+            f"{chk['energy_gain']:.4f}",
+            f"{pm_gain:.4f}",
+            "-",
+            f"max KE(t) / (KE0 exp(-1.4 t)), must be <= 1; at step {chk['energy_gain_step']} "
+            f"(pymunk step {pm_gain_step})",
+        )
+    )
+    half = np.array(scene.play_area) / 2
+    pm_final = pm1["final_positions"]
+    pm_on = int(np.sum(np.all(np.abs(pm_final) < half, axis=1)))
+    n_balls = scene.n_balls
+    rows.append(
+        (
+            "pool break: balls on table",
+            "1",
+            f"{chk['on_table']}/{n_balls}",
+            f"{pm_on}/{n_balls}",
+            "-",
+            f"finite: {chk['finite'] and all(r['finite'] for r in imp.values())}; replay == timed "
+            f"run: {replay_same}",
+        )
+    )
+    rows.append(
+        (
+            "pool break: max overlap (mm)",
+            "1",
+            _fmt(1e3 * chk["max_overlap_m"]),
+            "-",
+            "-",
+            f"deepest ball-ball overlap after any step; deepest past a cushion face "
+            f"{1e3 * chk['max_penetration_m']:.3g} mm",
+        )
+    )
+
+    # -- pyramids ----------------------------------------------------------------------------
+    for base in (10, 20):
+        _stage(f"pyramid base {base}")
+        ri = pyramid_impulse2d(base, pyr_steps, drift_steps, repeats=PYRAMID_REPEATS)
+        pm_runs = [pymunk_peer.pyramid_pymunk(base, pyr_steps, drift_steps) for _ in range(3)]
+        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[1]
+        ratio = ri["ms_per_step"] / rp["ms_per_step"]
+        rows.append(
+            (
+                f"pyramid base {base}: ms/step",
+                "1",
+                _fmt(ri["ms_per_step"]),
+                _fmt(rp["ms_per_step"]),
+                _ratio(ri["ms_per_step"], rp["ms_per_step"]),
+                f"target ratio <= {PYRAMID_RATIO_TARGET:g}: {_ok(ratio <= PYRAMID_RATIO_TARGET)}",
+            )
+        )
+        rows.append(
+            (
+                f"pyramid base {base}: top drift (m)",
+                "1",
+                f"{ri['top_drift_m']:.4f}",
+                f"{rp['top_drift_m']:.4f}",
+                _ratio(ri["top_drift_m"], rp["top_drift_m"]),
+                f"after {drift_steps * dt_pyr:g} s; target <= pymunk: "
+                f"{_ok(ri['top_drift_m'] <= rp['top_drift_m'])}; max drift "
+                f"{ri['max_drift_m']:.4f} / {rp['max_drift_m']:.4f} m; finite: {ri['finite']}",
+            )
+        )
+
+    print()
+    if batch_steps < pool_steps:
+        print(
+            f"NOTE: the {n_worlds}-world impulse2d runs passed the {args.budget:g} s budget, so "
+            f"only a prefix of the break was timed (first {batch_steps} of {pool_steps} steps; "
+            "see notes); pymunk was timed over the same prefix\n"
+        )
+    _print_table(rows)
+
+    if args.positions:
+        print(f"\nfinal ball positions after {pool_steps} steps (m), single world")
+        print(
+            f"{'ball':>4}  {'impulse2d x':>11} {'y':>8}  {'no-sleep x':>10} {'y':>8}  "
+            f"{'pymunk x':>9} {'y':>8}"
+        )
+        a, b = imp[(1, True)]["final_positions"], imp[(1, False)]["final_positions"]
+        for i in range(n_balls):
+            print(
+                f"{i:>4}  {a[i, 0]:>11.4f} {a[i, 1]:>8.4f}  {b[i, 0]:>10.4f} {b[i, 1]:>8.4f}  "
+                f"{pm_final[i, 0]:>9.4f} {pm_final[i, 1]:>8.4f}"
+            )
+
+    print(f"\ntotal wall time {time.perf_counter() - t_start:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
