@@ -338,7 +338,10 @@ class SlotStore:
     def _add_spring(self, spring: Spring) -> Spring:
         if spring._world is not None:
             raise ValueError(f"{spring!r} is already in a world; remove it first")
-        slot_a, slot_b = self.body_slot(spring.body1), self.body_slot(spring.body2)
+        for name, body in (("body1", spring.body1), ("body2", spring.body2)):
+            if body._world is not self:
+                raise ValueError(f"{name} of the spring must be in this world; add it first")
+        slot_a, slot_b = spring.body1._slot, spring.body2._slot
         values = spring._values
         anchors = {
             k: _checks.batched(k, values[k], self._batch, (2,)) for k in ("anchor1", "anchor2")

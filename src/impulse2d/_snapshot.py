@@ -68,8 +68,9 @@ class SnapshotMixin:
 
         The snapshot must come from a world with the same objects in the same slots (this
         one, a copy from ``replicate``, or one built by the same code). A snapshot of one
-        world can be restored into any number of worlds; otherwise it must have one world
-        per target world (or, with ``worlds=None``, exactly ``batch_size`` worlds).
+        world can be restored into any number of worlds; a snapshot of a batch of the same
+        size restores world ``i`` from its world ``i``; otherwise it must have one world per
+        named world, taken in order.
         """
         if not isinstance(snapshot, Snapshot):
             raise ValueError(f"snapshot must be a Snapshot, got {type(snapshot).__name__}")
@@ -90,12 +91,15 @@ class SnapshotMixin:
             raise ValueError(f"worlds must be indices in [0, {self._batch}), got {worlds!r}")
         if snapshot.batch_size == 1:
             sources = np.zeros(targets.size, np.int64)
+        elif snapshot.batch_size == self._batch:
+            sources = targets
         elif snapshot.batch_size == targets.size:
             sources = np.arange(targets.size)
         else:
             raise ValueError(
-                f"snapshot has {snapshot.batch_size} worlds; it can fill 1 or "
-                f"{snapshot.batch_size} worlds, not {targets.size}"
+                f"snapshot has {snapshot.batch_size} worlds; it can fill any worlds of a batch "
+                f"of {snapshot.batch_size}, or exactly {snapshot.batch_size} named worlds, not "
+                f"{targets.size} of {self._batch}"
             )
         for table, saved in ((self._bodies, snapshot.bodies), (self._springs, snapshot.springs)):
             for name, array in table.arrays.items():

@@ -24,18 +24,29 @@ _LOCAL_RADIX = 1 << 20  # slots per world in a capacity-independent local key
 
 @dataclass
 class StepTerms:
-    """Per-body terms of a step, valid until the world's state version changes."""
+    """Per-body terms of a step, valid until the world's state version changes.
+
+    ``index`` lists the bodies that move (awake dynamic or kinematic). When they are few
+    (a batch whose worlds have mostly come to rest), per-body work runs on them only
+    (``compact``); otherwise it runs on whole arrays, which is cheaper per body.
+    """
 
     version: int
     h: float
     movable: np.ndarray  # (T,) bool: dynamic, enabled and awake (moved by forces, contacts)
     moving: np.ndarray  # (T,) bool: enabled and awake (dynamic or moving kinematic)
     present: np.ndarray  # (T,) bool: enabled circles and boxes (in the broadphase)
+    index: np.ndarray  # (k,) flat indices of the moving bodies
+    index3: np.ndarray  # (3k,) their entries in the flattened (3, T) arrays
+    compact: bool  # integrate only the moving bodies
     travel: np.ndarray  # (T,) float: h where moving, else 0 (integrate positions)
     accel_h: np.ndarray  # (3, T): h * gravity on movable bodies
     damping: np.ndarray  # (3, T): exp(-drag h) on movable bodies, else 1
     inv_mass: np.ndarray  # (T,) 1/m on movable bodies, else 0
     inv_moment: np.ndarray  # (T,)
+
+
+_COMPACT_FRACTION = 0.4  # below this fraction of moving bodies, integrate by index
 
 
 def _empty_points() -> Points:
@@ -62,12 +73,17 @@ class StepStages:
         damping[0][movable] = np.exp(-h * flat["linear_drag"][movable])
         damping[1] = damping[0]
         damping[2][movable] = np.exp(-h * flat["angular_drag"][movable])
+        index = np.flatnonzero(moving)
+        total = moving.size
         self._terms = StepTerms(
             version=self._version,
             h=h,
             movable=movable,
             moving=moving,
             present=flat["enabled"] & self._solid_flat,
+            index=index,
+            index3=np.concatenate([index, index + total, index + 2 * total]),
+            compact=index.size < _COMPACT_FRACTION * total,
             travel=np.where(moving, h, 0.0),
             accel_h=accel_h,
             damping=damping,
@@ -79,9 +95,15 @@ class StepStages:
     def _speed_bound(self, terms: StepTerms) -> np.ndarray:
         """An upper bound on how fast any point of each body moves (m/s):
         ``|vx| + |vy| + R |w|`` (0 for bodies that do not move)."""
-        vel = self._views["vel"]
-        speed = np.abs(vel[0]) + np.abs(vel[1]) + np.abs(vel[2]) * self._views["bound"]
-        return np.where(terms.moving, speed, 0.0)
+        vel, bound = self._views["vel"], self._views["bound"]
+        if not terms.compact:
+            speed = np.abs(vel[0]) + np.abs(vel[1]) + np.abs(vel[2]) * bound
+            return np.where(terms.moving, speed, 0.0)
+        index = terms.index
+        v = np.abs(vel.reshape(-1)[terms.index3]).reshape(3, -1)
+        speed = np.zeros(bound.size)
+        speed[index] = v[0] + v[1] + v[2] * bound[index]
+        return speed
 
     def _candidate_pairs(
         self, terms: StepTerms, speed: np.ndarray, dt: float
@@ -90,20 +112,33 @@ class StepStages:
         fat boxes only say they might, soon) plus body-plane pairs, with something awake."""
         flat = self._views
         self._update_extents(terms)
-        grow = 0.5 * self.speculative_distance + speed * dt
-        tight_x, tight_y = self._extent_x + grow, self._extent_y + grow
-        # The fat margin: half the body's smaller size plus two steps of travel, so a body
-        # takes several steps to leave its box and a resting one never re-queries.
-        margin = self._margin_base + 2.0 * dt * speed
+        reach = speed * dt
+        half_spec = 0.5 * self.speculative_distance
         x, y = flat["pose"][0], flat["pose"][1]
         keys, body_a, body_b = self._broadphase.update(
-            x, y, tight_x, tight_y, margin, terms.moving, terms.present, self._allowed, self._kind
+            x,
+            y,
+            self._extent_x,
+            self._extent_y,
+            reach,
+            half_spec,
+            self._margin_base,
+            terms.index,
+            terms.present,
+            self._allowed,
+            self._kind,
         )
         awake = flat["awake"]
+        # Tight boxes: the shape's box grown by half the speculative distance and by how
+        # far the body can travel this step, on each side.
+        grow_a, grow_b = reach[body_a] + half_spec, reach[body_b] + half_spec
         near = (awake[body_a] | awake[body_b]) & (
-            np.abs(x[body_a] - x[body_b]) < tight_x[body_a] + tight_x[body_b]
+            np.abs(x[body_a] - x[body_b])
+            < self._extent_x[body_a] + self._extent_x[body_b] + grow_a + grow_b
         )
-        near &= np.abs(y[body_a] - y[body_b]) < tight_y[body_a] + tight_y[body_b]
+        near &= np.abs(y[body_a] - y[body_b]) < (
+            self._extent_y[body_a] + self._extent_y[body_b] + grow_a + grow_b
+        )
         if not near.all():
             keys, body_a, body_b = keys[near], body_a[near], body_b[near]
         if self._plane_keys.size:
@@ -375,9 +410,11 @@ class StepStages:
         than the speed itself)."""
         flat = self._views
         sleep_time = flat["sleep_time"]
-        slow = terms.movable & (speed < self.sleep_speed)
-        np.copyto(sleep_time, np.where(slow, sleep_time + dt, 0.0))
-        if not (sleep_time >= self.time_to_sleep).any():
+        index = terms.index  # only moving bodies can change their sleep time
+        slow = terms.movable[index] & (speed[index] < self.sleep_speed)
+        ready = np.where(slow, sleep_time[index] + dt, 0.0)
+        sleep_time[index] = ready
+        if not (ready >= self.time_to_sleep).any():
             return
         first = np.zeros(0, np.int64) if contacts is None else contacts.body_a
         second = np.zeros(0, np.int64) if contacts is None else contacts.body_b

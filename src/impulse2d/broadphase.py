@@ -89,6 +89,7 @@ class Broadphase:
         self.fat_hx = np.full(total, -np.inf)
         self.fat_hy = np.full(total, -np.inf)
         self.stale = np.ones(total, dtype=bool)  # must be (re)inserted at the next update
+        self.any_stale = True
         self.keys = np.zeros(0, np.int64)
         self.body_a = np.zeros(0, np.int64)
         self.body_b = np.zeros(0, np.int64)
@@ -97,52 +98,73 @@ class Broadphase:
     def mark(self, flat: np.ndarray | slice) -> None:
         """Bodies that were teleported, resized, enabled or disabled: re-query them."""
         self.stale[flat] = True
+        self.any_stale = True
 
     def update(
         self,
         x: np.ndarray,
         y: np.ndarray,
-        tight_x: np.ndarray,
-        tight_y: np.ndarray,
+        extent_x: np.ndarray,
+        extent_y: np.ndarray,
+        reach: np.ndarray,
+        half_spec: float,
         margin: np.ndarray,
-        movable: np.ndarray,
+        candidates: np.ndarray,
         present: np.ndarray,
         allowed: np.ndarray,
         kind: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Refresh the pairs and return ``(keys, body_a, body_b)``.
 
-        ``x, y`` are centres and ``tight_x, tight_y`` the tight half extents of all ``T``
-        bodies; ``margin`` is what a re-fattened box gets on top; ``movable`` marks bodies
-        that can move this step (awake dynamic or kinematic); ``present`` marks enabled
-        non-plane bodies. ``allowed[a, b]`` says slots a and b may collide, and ``kind``
-        gives each slot's shape kind.
+        ``x, y`` are centres and ``extent_x, extent_y`` the half extents of the shapes of
+        all ``T`` bodies; ``reach`` is how far each can travel this step. A tight box is
+        the shape's box grown by ``reach + half_spec``; a re-fattened box gets ``margin +
+        2 reach`` on top. ``candidates`` are the bodies that can move this step;
+        ``present`` marks enabled non-plane bodies. ``allowed[a, b]`` says slots a and b
+        may collide, and ``kind`` gives each slot's shape kind.
         """
-        escaped = (np.abs(x - self.fat_x) + tight_x > self.fat_hx) | (
-            np.abs(y - self.fat_y) + tight_y > self.fat_hy
+        c = candidates
+        grow = reach[c] + half_spec
+        escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow > self.fat_hx[c]) | (
+            np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow > self.fat_hy[c]
         )
-        moved_mask = (escaped & movable) | self.stale
-        if not moved_mask.any():
+        moved = c[escaped]
+        if self.any_stale:
+            moved = np.union1d(moved, np.flatnonzero(self.stale))
+            self.stale[:] = False
+            self.any_stale = False
+        if moved.size == 0:
             return self.keys, self.body_a, self.body_b
-        moved = np.flatnonzero(moved_mask)
         self.updates += moved.size
-        self.stale[moved] = False
         live = present[moved]
+        grow = reach[moved] + half_spec + margin[moved] + 2.0 * reach[moved]
         self.fat_x[moved] = x[moved]
         self.fat_y[moved] = y[moved]
-        self.fat_hx[moved] = np.where(live, tight_x[moved] + margin[moved], -np.inf)
-        self.fat_hy[moved] = np.where(live, tight_y[moved] + margin[moved], -np.inf)
+        self.fat_hx[moved] = np.where(live, extent_x[moved] + grow, -np.inf)
+        self.fat_hy[moved] = np.where(live, extent_y[moved] + grow, -np.inf)
 
-        keep = ~(moved_mask[self.body_a] | moved_mask[self.body_b])
-        new_keys = self._query(moved[live], moved_mask, present, allowed, kind)
-        kept = self.keys[keep]
-        if new_keys.size:
-            new_keys.sort()
-            kept = np.insert(kept, np.searchsorted(kept, new_keys), new_keys)
-            self.keys = kept
-            self.body_a, self.body_b = decode_keys(kept, self.batch, self.slots)
-        else:
-            self.keys, self.body_a, self.body_b = kept, self.body_a[keep], self.body_b[keep]
+        moved_mask = np.zeros(x.size, dtype=bool)
+        moved_mask[moved] = True
+        keep = np.flatnonzero(~(moved_mask[self.body_a] | moved_mask[self.body_b]))
+        new_keys, new_a, new_b = self._query(moved[live], moved_mask, present, allowed, kind)
+        kept = (self.keys[keep], self.body_a[keep], self.body_b[keep])
+        if new_keys.size == 0:
+            self.keys, self.body_a, self.body_b = kept
+            return kept
+        order = np.argsort(new_keys)
+        new = (new_keys[order], new_a[order], new_b[order])
+        # Merge two sorted lists: where each new key lands among the kept ones.
+        total = kept[0].size + new[0].size
+        landing = np.searchsorted(kept[0], new[0]) + np.arange(new[0].size)
+        is_new = np.zeros(total, dtype=bool)
+        is_new[landing] = True
+        merged = []
+        for old_part, new_part in zip(kept, new, strict=True):
+            out = np.empty(total, dtype=old_part.dtype)
+            out[landing] = new_part
+            out[~is_new] = old_part
+            merged.append(out)
+        self.keys, self.body_a, self.body_b = merged
         return self.keys, self.body_a, self.body_b
 
     def _query(
@@ -152,10 +174,11 @@ class Broadphase:
         present: np.ndarray,
         allowed: np.ndarray,
         kind: np.ndarray,
-    ) -> np.ndarray:
-        """Keys of all valid overlapping pairs that involve a moved body."""
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Keys and flat bodies (A, B) of all valid overlapping pairs with a moved body."""
         if moved.size == 0:
-            return np.zeros(0, np.int64)
+            empty = np.zeros(0, np.int64)
+            return empty, empty, empty
         if moved.size * self.slots <= self.dense_limit:
             first, second = self._dense(moved)
         else:
@@ -173,7 +196,9 @@ class Broadphase:
         swap = (k1 > k2) | ((k1 == k2) & (slot_1 > slot_2))
         slot_a, slot_b = np.where(swap, slot_2, slot_1), np.where(swap, slot_1, slot_2)
         kinds = PAIR_KIND[kind[slot_a], kind[slot_b]]
-        return pair_keys(kinds, first // n, slot_a, slot_b, self.batch, n)
+        world = first // n
+        keys = pair_keys(kinds, world, slot_a, slot_b, self.batch, n)
+        return keys, world * n + slot_a, world * n + slot_b
 
     def _overlap(self, first: np.ndarray, second: np.ndarray) -> np.ndarray:
         return (

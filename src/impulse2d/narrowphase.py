@@ -12,7 +12,9 @@ Conventions, used throughout the engine:
   distance for the pair (how far the two can close during this step), so a fast body
   gets its contact one step before it would reach the surface and cannot tunnel.
 * Each function returns points ordered by (pair, feature); feature ids (which vertex of
-  which face) let the solver carry impulses over from the previous step.
+  which face) let the solver carry impulses over from the previous step. A pair has up
+  to two points, except a box against a plane, which can have a speculative point at
+  each corner.
 
 Every function takes whole arrays of pairs of its kind and uses no Python loops.
 """
@@ -271,20 +273,23 @@ _CORNER_Y = np.array([1.0, 1.0, -1.0, -1.0])
 
 
 def box_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
-    """Box A against half-space B: the (up to) two deepest corners."""
+    """Box A against half-space B: every corner within the margin (up to four).
+
+    A resting box has two (its lower corners); a box spinning fast near the ground can
+    have three or four, and each must be a speculative contact or the corner that is
+    about to swing down would pass through the ground within the step.
+    """
     c, s = a.cos[:, None], a.sin[:, None]
     lx, ly = a.half_w[:, None] * _CORNER_X, a.half_h[:, None] * _CORNER_Y
     rx, ry = c * lx - s * ly, s * lx + c * ly  # corner offsets, world frame (K, 4)
     plane_nx, plane_ny = b.normal_x[:, None], b.normal_y[:, None]
     base = (a.x - b.x)[:, None] * plane_nx + (a.y - b.y)[:, None] * plane_ny
-    depth = base + rx * plane_nx + ry * plane_ny  # signed distance of each corner
-    deepest = np.argsort(depth, axis=1, kind="stable")[:, :2]
-    corners = np.sort(deepest, axis=1)  # order by feature id
-    sep = np.take_along_axis(depth, corners, axis=1)
-    cx = np.take_along_axis(rx, corners, axis=1) - 0.5 * sep * plane_nx
-    cy = np.take_along_axis(ry, corners, axis=1) - 0.5 * sep * plane_ny
+    sep = base + rx * plane_nx + ry * plane_ny  # signed distance of each corner
+    cx = rx - 0.5 * sep * plane_nx
+    cy = ry - 0.5 * sep * plane_ny
     keep = sep < margin[:, None]
-    pair = np.repeat(np.arange(a.x.size), 2).reshape(-1, 2)
+    pair = np.repeat(np.arange(a.x.size), 4).reshape(-1, 4)
+    corners = np.broadcast_to(np.arange(4), keep.shape)
     nx = np.broadcast_to(-plane_nx, keep.shape)
     ny = np.broadcast_to(-plane_ny, keep.shape)
     offset_x, offset_y = (a.x - b.x)[:, None], (a.y - b.y)[:, None]

@@ -279,30 +279,39 @@ class Body(_Slot):
 
     # -- geometry --------------------------------------------------------------------------
     def to_world(self, local_point: Any) -> np.ndarray:
-        """A body-local point (m) in world coordinates (shape (2,) or (B, 2))."""
-        local = _checks.vector2("local_point", local_point)
+        """A body-local point (m) in world coordinates: shape (2,), or (B, 2) in a batch.
+
+        ``local_point`` is one point, or (in a batch) one point per world."""
+        local = self._point("local_point", local_point)
         position, angle = np.asarray(self.position), np.asarray(self.angle)
-        c, s = np.cos(angle)[..., None], np.sin(angle)[..., None]
-        return position + np.stack(
-            [
-                c[..., 0] * local[0] - s[..., 0] * local[1],
-                s[..., 0] * local[0] + c[..., 0] * local[1],
-            ],
-            axis=-1,
-        )
+        c, s = np.cos(angle), np.sin(angle)
+        x = c * local[..., 0] - s * local[..., 1]
+        y = s * local[..., 0] + c * local[..., 1]
+        return position + np.stack([x, y], axis=-1)
 
     def to_local(self, world_point: Any) -> np.ndarray:
-        """A world point (m) in this body's coordinates (shape (2,) or (B, 2))."""
-        point = _checks.vector2("world_point", world_point)
+        """A world point (m) in this body's coordinates: shape (2,), or (B, 2) in a batch."""
+        return self._to_local(self._point("world_point", world_point))
+
+    def _to_local(self, point: np.ndarray) -> np.ndarray:
         d = point - np.asarray(self.position)
         angle = np.asarray(self.angle)
         c, s = np.cos(angle), np.sin(angle)
         return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1]], axis=-1)
 
+    def _point(self, name: str, value: Any) -> np.ndarray:
+        """A finite point (2,), or one per world (B, 2) when the body is in a batch."""
+        batch = self._world.batch_size if self._world is not None else 1
+        if batch == 1:
+            return _checks.vector2(name, value)
+        array = _checks.finite_array(name, value)
+        if array.shape not in ((2,), (batch, 2)):
+            raise ValueError(f"{name} must have shape (2,) or ({batch}, 2), got {array.shape}")
+        return array
+
     def is_inside(self, point: Any) -> Any:
         """True if the world point lies inside the shape (bool, or one per world)."""
-        local = self.to_local(point)
-        return self._contains_local(local)
+        return self._contains_local(self._to_local(self._point("point", point)))
 
     def _contains_local(self, local: np.ndarray) -> Any:  # pragma: no cover - overridden
         raise NotImplementedError

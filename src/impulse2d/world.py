@@ -187,15 +187,25 @@ class World(SlotStore, SnapshotMixin, StepStages):
         if contacts is not None:
             indices = solver.colour_indices(contacts)
             separation = contacts.separation
+        if terms.compact:  # few bodies move: integrate those only, by index
+            flat_vel, flat_pose, index3 = vel.reshape(-1), pose.reshape(-1), terms.index3
+            damping = terms.damping.reshape(-1)[index3]
+            accel = accel_h.reshape(-1)[index3]
         for _ in range(self._substeps):
-            vel *= terms.damping  # drag, then gravity and forces
-            vel += accel_h
+            if terms.compact:
+                flat_vel[index3] = flat_vel[index3] * damping + accel
+            else:
+                vel *= terms.damping  # drag, then gravity and forces
+                vel += accel_h
             if springs is not None:
                 self._apply_springs(terms, springs, h)
             if contacts is not None:
                 solver.warm_start(contacts, vel)
                 solver.solve(contacts, indices, vel, separation, inv_h, True, push)
-            pose += vel * terms.travel
+            if terms.compact:
+                flat_pose[index3] += flat_vel[index3] * h
+            else:
+                pose += vel * terms.travel
             if contacts is not None:
                 separation = solver.separation(contacts, pose)
                 solver.solve(contacts, indices, vel, separation, inv_h, False, push)

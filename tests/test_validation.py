@@ -1,0 +1,635 @@
+"""Validation contract: bad input raises ValueError naming the parameter, at the call that made
+it, and a rejected call leaves everything the user set up as it was.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import impulse2d as p2
+
+NAN, INF = math.nan, math.inf
+NON_FINITE = [NAN, INF, -INF]
+
+
+# -- helpers ---------------------------------------------------------------------------------------
+def names(parameter: str):
+    """pytest.raises(ValueError) whose message names ``parameter`` as a whole word."""
+    return pytest.raises(ValueError, match=rf"(?<![\w]){re.escape(parameter)}(?![\w])")
+
+
+def two_circles(**world_kwargs) -> tuple[p2.World, p2.Circle, p2.Circle]:
+    world = p2.World(**world_kwargs)
+    a = world.add(p2.Circle(position=(0.0, 0.0)))
+    b = world.add(p2.Circle(position=(3.0, 0.0)))
+    return world, a, b
+
+
+def body_values(body) -> dict:
+    keys = [
+        "position",
+        "velocity",
+        "angle",
+        "angular_velocity",
+        "mass",
+        "moment",
+        "restitution",
+        "friction",
+        "linear_drag",
+        "angular_drag",
+        "awake",
+        "enabled",
+    ]
+    keys += ["radius"] if isinstance(body, p2.Circle) else ["width", "height"]
+    return {k: np.array(getattr(body, k)) for k in keys}
+
+
+def assert_same(before: dict, after: dict) -> None:
+    for key, value in before.items():
+        np.testing.assert_array_equal(after[key], value, err_msg=key)
+
+
+# -- sizes, masses, materials ----------------------------------------------------------------------
+@pytest.mark.parametrize("value", [0.0, -0.5, -INF])
+@pytest.mark.parametrize(
+    ("cls", "name"), [(p2.Circle, "radius"), (p2.Box, "width"), (p2.Box, "height")]
+)
+def test_non_positive_size_rejected(cls, name, value):
+    """Zero or negative radius, width and height raise ValueError naming the parameter."""
+    with names(name):
+        cls(**{name: value})
+
+
+@pytest.mark.parametrize("cls", [p2.Circle, p2.Box])
+@pytest.mark.parametrize("mass", [0.0, -1.0])
+def test_non_positive_mass_of_dynamic_body_rejected(cls, mass):
+    """A dynamic body with zero or negative mass raises ValueError naming mass."""
+    with names("mass"):
+        cls(mass=mass)
+    with names("mass"):
+        cls(mass=mass, kinematic=False, fixed=False)
+
+
+@pytest.mark.parametrize(
+    ("cls", "name"),
+    [
+        (p2.Circle, "restitution"),
+        (p2.Circle, "friction"),
+        (p2.Circle, "linear_drag"),
+        (p2.Circle, "angular_drag"),
+        (p2.Box, "restitution"),
+        (p2.Box, "friction"),
+        (p2.Box, "linear_drag"),
+        (p2.Box, "angular_drag"),
+        (p2.Plane, "restitution"),
+        (p2.Plane, "friction"),
+    ],
+)
+def test_negative_material_rejected(cls, name):
+    """Negative restitution, friction and drag raise ValueError naming the parameter."""
+    with names(name):
+        cls(**{name: -0.1})
+
+
+def test_zero_plane_normal_rejected():
+    """A zero plane normal raises ValueError naming normal."""
+    with names("normal"):
+        p2.Plane(normal=(0.0, 0.0))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    kind=st.sampled_from(["Circle.radius", "Box.width", "Box.height", "Circle.mass", "Box.mass"]),
+    value=st.one_of(
+        st.floats(max_value=0.0, allow_nan=False),
+        st.sampled_from([NAN, INF, -INF]),
+    ),
+)
+def test_random_bad_size_or_mass_rejected(kind, value):
+    """Any non-positive or non-finite size or dynamic mass is refused, with the name."""
+    cls_name, name = kind.split(".")
+    with names(name):
+        getattr(p2, cls_name)(**{name: value})
+
+
+# -- non-finite numbers ----------------------------------------------------------------------------
+VECTOR_KEYWORDS = [
+    (p2.Circle, "position"),
+    (p2.Circle, "velocity"),
+    (p2.Box, "position"),
+    (p2.Box, "velocity"),
+    (p2.Plane, "point"),
+    (p2.Plane, "normal"),
+]
+SCALAR_KEYWORDS = [
+    (cls, name)
+    for cls in (p2.Circle, p2.Box)
+    for name in (
+        "angle",
+        "angular_velocity",
+        "mass",
+        "restitution",
+        "friction",
+        "linear_drag",
+        "angular_drag",
+    )
+] + [
+    (p2.Circle, "radius"),
+    (p2.Box, "width"),
+    (p2.Box, "height"),
+    (p2.Plane, "restitution"),
+    (p2.Plane, "friction"),
+]
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+@pytest.mark.parametrize(("cls", "name"), VECTOR_KEYWORDS)
+def test_non_finite_vector_keyword_rejected(cls, name, bad):
+    """NaN or inf in any vector keyword raises ValueError naming it."""
+    with names(name):
+        cls(**{name: (1.0, bad)})
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+@pytest.mark.parametrize(("cls", "name"), SCALAR_KEYWORDS)
+def test_non_finite_scalar_keyword_rejected(cls, name, bad):
+    """NaN or inf in any scalar keyword raises ValueError naming it."""
+    with names(name):
+        cls(**{name: bad})
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    field=st.sampled_from(
+        [
+            "position",
+            "velocity",
+            "angle",
+            "angular_velocity",
+            "radius",
+            "mass",
+            "restitution",
+            "friction",
+            "linear_drag",
+            "angular_drag",
+        ]
+    ),
+    bad=st.sampled_from(NON_FINITE),
+    index=st.integers(0, 1),
+)
+def test_random_non_finite_setter_rejected_and_value_kept(field, bad, index):
+    """Setting a body field to NaN/inf raises naming the field and changes nothing."""
+    world = p2.World()
+    c = world.add(p2.Circle(position=(1.0, 2.0), velocity=(0.5, 0.0), radius=0.4, mass=2.0))
+    before = body_values(c)
+    current = np.array(getattr(c, field), dtype=float)
+    value = current.copy()
+    value.flat[index % value.size] = bad
+    with names(field):
+        setattr(c, field, value)
+    assert_same(before, body_values(c))
+
+
+WORLD_FLOATS = [
+    "restitution_threshold",
+    "contact_hertz",
+    "contact_damping_ratio",
+    "contact_push_speed",
+    "speculative_distance",
+    "time_to_sleep",
+    "sleep_speed",
+]
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+@pytest.mark.parametrize("name", WORLD_FLOATS)
+def test_non_finite_world_setting_rejected(name, bad):
+    """NaN or inf in any World setting raises ValueError naming it."""
+    with names(name):
+        p2.World(**{name: bad})
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+def test_non_finite_gravity_rejected(bad):
+    """NaN or inf gravity, in the constructor or the setter, raises and keeps the old gravity."""
+    with names("gravity"):
+        p2.World(gravity=(0.0, bad))
+    world = p2.World(gravity=(0.0, -1.0))
+    with names("gravity"):
+        world.gravity = (bad, 0.0)
+    np.testing.assert_array_equal(world.gravity, [0.0, -1.0])
+
+
+@pytest.mark.parametrize("dt", [0.0, -0.01, -INF, NAN, INF])
+def test_bad_dt_rejected(dt):
+    """A zero, negative or non-finite dt raises ValueError naming dt, and nothing is stepped."""
+    world, a, _ = two_circles()
+    with names("dt"):
+        world.step(dt)
+    assert world.steps == 0 and world.time == 0.0
+    np.testing.assert_array_equal(a.position, [0.0, 0.0])
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+@pytest.mark.parametrize("method", ["apply_force", "apply_impulse"])
+def test_non_finite_force_impulse_or_point_rejected(method, bad):
+    """NaN or inf in a force, impulse or its point raises naming it and applies nothing."""
+    world, a, _ = two_circles(gravity=(0.0, 0.0))
+    vector = "force" if method == "apply_force" else "impulse"
+    with names(vector):
+        getattr(a, method)((1.0, bad))
+    with names("point"):
+        getattr(a, method)((1.0, 0.0), point=(bad, 0.0))
+    world.step(1.0 / 60.0)
+    np.testing.assert_array_equal(a.velocity, [0.0, 0.0])
+    assert a.angular_velocity == 0.0
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+def test_non_finite_query_points_rejected(bad):
+    """NaN/inf points to query_point, Plane.is_inside, to_world, to_local raise naming them."""
+    world = p2.World()
+    c = world.add(p2.Circle())
+    g = world.add(p2.Plane())
+    with names("point"):
+        world.query_point((bad, 0.0))
+    with names("point"):
+        g.is_inside((bad, 0.0))
+    with names("local_point"):
+        c.to_world((0.0, bad))
+    with names("world_point"):
+        c.to_local((0.0, bad))
+
+
+@pytest.mark.parametrize("cls", [p2.Circle, p2.Box])
+def test_non_finite_is_inside_point_rejected_naming_point(cls):
+    """body.is_inside(point) with NaN or inf raises ValueError naming its parameter, point."""
+    body = p2.World().add(cls())
+    for bad in NON_FINITE:
+        with names("point"):
+            body.is_inside((bad, 0.0))
+
+
+@pytest.mark.parametrize("bad", NON_FINITE)
+@pytest.mark.parametrize(
+    ("name", "value"),
+    [
+        ("rest_length", None),
+        ("stiffness", None),
+        ("damping", None),
+        ("anchor1", "vector"),
+        ("anchor2", "vector"),
+    ],
+)
+def test_non_finite_spring_parameter_rejected(name, value, bad):
+    """NaN/inf spring parameters raise naming them, in constructor and setter; value is kept."""
+    world, a, b = two_circles()
+    given_value = (0.0, bad) if value == "vector" else bad
+    with names(name):
+        p2.Spring(a, b, **{name: given_value})
+    s = world.add(
+        p2.Spring(
+            a,
+            b,
+            rest_length=2.0,
+            stiffness=3.0,
+            damping=0.1,
+            anchor1=(0.1, 0.0),
+            anchor2=(0.0, 0.1),
+        )
+    )
+    before = np.array(getattr(s, name))
+    with names(name):
+        setattr(s, name, given_value)
+    np.testing.assert_array_equal(getattr(s, name), before)
+
+
+@pytest.mark.parametrize("name", ["rest_length", "stiffness", "damping"])
+def test_negative_spring_parameter_rejected(name):
+    """A negative spring rest_length, stiffness or damping raises naming it."""
+    _, a, b = two_circles()
+    with names(name):
+        p2.Spring(a, b, **{name: -1.0})
+
+
+# -- structure: adding, removing, springs ----------------------------------------------------------
+@pytest.mark.parametrize("make", [lambda: p2.Circle(), lambda: p2.Box(), lambda: p2.Plane()])
+def test_adding_an_object_twice_rejected(make):
+    """Adding an object already in this world or in another world raises ValueError."""
+    world, other = p2.World(), p2.World()
+    obj = world.add(make())
+    with pytest.raises(ValueError, match="already"):
+        world.add(obj)
+    with pytest.raises(ValueError, match="already"):
+        other.add(obj)
+    assert world.bodies == [obj] and other.bodies == []
+    assert obj.world is world
+
+
+def test_adding_a_spring_twice_rejected():
+    """Adding a spring already in a world, to it or to another world, raises ValueError."""
+    world, a, b = two_circles()
+    s = world.add(p2.Spring(a, b))
+    with pytest.raises(ValueError, match="already"):
+        world.add(s)
+    with pytest.raises(ValueError):
+        p2.World().add(s)
+    assert world.springs == [s]
+
+
+def test_spring_from_a_body_to_itself_rejected():
+    """A spring whose two bodies are the same raises ValueError naming the bodies."""
+    _, a, _ = two_circles()
+    with pytest.raises(ValueError, match=r"body1|body2"):
+        p2.Spring(a, a)
+    with pytest.raises(ValueError):
+        p2.Spring(a, a, rest_length=1.0, stiffness=2.0)
+
+
+def test_spring_between_distinct_detached_bodies_is_constructible():
+    """Two different bodies make a valid spring even before they are added."""
+    s = p2.Spring(p2.Box(), p2.Circle(), stiffness=2.0)
+    assert s.world is None and s.stiffness == 2.0
+
+
+@pytest.mark.parametrize("missing", ["body1", "body2"])
+def test_spring_whose_body_is_not_in_the_world_rejected(missing):
+    """Adding a spring whose body is not in the world raises naming that body; adds nothing."""
+    world, a, _ = two_circles()
+    stranger = p2.Circle(position=(5.0, 0.0))
+    bodies = (stranger, a) if missing == "body1" else (a, stranger)
+    spring = p2.Spring(*bodies)
+    with names(missing):
+        world.add(spring)
+    assert world.springs == [] and spring.world is None
+    elsewhere = p2.World().add(p2.Circle())
+    with pytest.raises(ValueError):
+        world.add(p2.Spring(a, elsewhere))
+    assert world.springs == []
+
+
+def test_removing_what_is_not_in_the_world_rejected():
+    """remove of an object that is not in this world raises ValueError."""
+    world, a, _ = two_circles()
+    with pytest.raises(ValueError):
+        world.remove(p2.Circle())
+    with pytest.raises(ValueError):
+        p2.World().remove(a)
+    world.remove(a)
+    with pytest.raises(ValueError):
+        world.remove(a)
+
+
+def test_add_rejects_non_objects():
+    """add of something that is not a Circle, Box, Plane or Spring raises."""
+    world = p2.World()
+    with pytest.raises((TypeError, ValueError)):
+        world.add((0.0, 0.0))
+    assert world.bodies == []
+
+
+# -- shapes ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", ["position", "velocity"])
+@pytest.mark.parametrize("value", [(0.0, 0.0, 0.0), (1.0,), ()])
+def test_wrong_vector_shape_in_constructor_rejected(name, value):
+    """A position or velocity that is not a 2-vector raises ValueError naming it."""
+    with names(name):
+        p2.Circle(**{name: value})
+
+
+def test_wrong_shapes_elsewhere_rejected():
+    """Wrong shapes for gravity, points, forces, impulses, anchors, setters raise naming them."""
+    with names("gravity"):
+        p2.World(gravity=(0.0, -9.81, 0.0))
+    with names("point"):
+        p2.Plane(point=(0.0, 0.0, 0.0))
+    with names("normal"):
+        p2.Plane(normal=(0.0, 1.0, 0.0))
+    world, a, b = two_circles()
+    with names("anchor1"):
+        p2.Spring(a, b, anchor1=(0.0, 0.0, 0.0))
+    with names("force"):
+        a.apply_force((1.0, 0.0, 0.0))
+    with names("impulse"):
+        a.apply_impulse((1.0,))
+    with names("point"):
+        a.apply_force((1.0, 0.0), point=(0.0, 0.0, 0.0))
+    with names("point"):
+        world.query_point((0.0, 0.0, 0.0))
+    before = body_values(a)
+    with names("position"):
+        a.position = (0.0, 0.0, 0.0)
+    with names("velocity"):
+        a.velocity = [[1.0, 2.0], [3.0, 4.0]]
+    with names("angle"):
+        a.angle = [0.1, 0.2]
+    assert_same(before, body_values(a))
+
+
+def test_wrong_batch_shapes_rejected():
+    """In a batch, a setter given the wrong number of worlds raises and changes nothing."""
+    world = p2.World(batch_size=4)
+    c = world.add(p2.Circle())
+    before = body_values(c)
+    with names("position"):
+        c.position = np.zeros((3, 2))
+    with names("radius"):
+        c.radius = [0.1, 0.2, 0.3]
+    with names("enabled"):
+        c.enabled = np.array([True, False])
+    with names("enabled"):
+        c.enabled = np.array([1, 0, 1, 0])
+    with names("impulse"):
+        c.apply_impulse(np.zeros((2, 2)))
+    assert_same(before, body_values(c))
+
+
+def test_add_of_body_with_wrong_number_of_worlds_rejected():
+    """Adding a body with values for another batch size raises naming the field; no change."""
+    body = p2.Circle(angle=[0.1, 0.2])  # values for a batch of 2
+    world = p2.World(batch_size=3)
+    keep = world.add(p2.Circle(position=(5.0, 0.0)))
+    with names("angle"):
+        world.add(body)
+    assert world.bodies == [keep] and body.world is None
+    np.testing.assert_array_equal(body.angle, [0.1, 0.2])
+    assert p2.World(batch_size=2).add(body) is body
+
+
+# -- flags and settings ----------------------------------------------------------------------------
+@pytest.mark.parametrize("cls", [p2.Circle, p2.Box])
+def test_fixed_and_kinematic_together_rejected(cls):
+    """fixed=True with kinematic=True raises ValueError naming both."""
+    with pytest.raises(ValueError, match=r"(?s)(fixed.*kinematic|kinematic.*fixed)"):
+        cls(fixed=True, kinematic=True)
+
+
+@pytest.mark.parametrize("batch_size", [0, -1])
+def test_batch_size_below_one_rejected(batch_size):
+    """batch_size below 1, in World or replicate, raises ValueError naming batch_size."""
+    with names("batch_size"):
+        p2.World(batch_size=batch_size)
+    with names("batch_size"):
+        p2.World().replicate(batch_size)
+
+
+@pytest.mark.parametrize("name", ["restitution_mixing", "friction_mixing"])
+@pytest.mark.parametrize("rule", ["average", "MAX", "", None])
+def test_unknown_mixing_rule_rejected(name, rule):
+    """An unknown mixing rule raises ValueError naming the parameter."""
+    with names(name):
+        p2.World(**{name: rule})
+
+
+def test_every_documented_mixing_rule_accepted():
+    """Each documented rule (max, min, mean, product, sqrt) is accepted for both mixings."""
+    for rule in ("max", "min", "mean", "product", "sqrt"):
+        world = p2.World(restitution_mixing=rule, friction_mixing=rule)
+        assert world.restitution_mixing == rule and world.friction_mixing == rule
+
+
+def test_restore_of_mismatched_snapshot_rejected():
+    """Restoring a snapshot of another scene, or into bad world indices, raises ValueError."""
+    world, _, _ = two_circles()
+    other = p2.World()
+    other.add(p2.Circle())
+    with pytest.raises(ValueError):
+        other.restore(world.snapshot())
+    with pytest.raises(ValueError):
+        world.restore(object())
+    batch = world.replicate(3)
+    with names("worlds"):
+        batch.restore(world.snapshot(), worlds=[3])
+    with names("worlds"):
+        batch.restore(world.snapshot(), worlds=[-1])
+
+
+# -- stiff springs ---------------------------------------------------------------------------------
+def test_too_stiff_spring_raises_at_step_instead_of_nan():
+    """A spring too stiff for the substep raises at step time; nothing integrates; recoverable."""
+    world, a, b = two_circles(gravity=(0.0, -9.81))
+    s = world.add(p2.Spring(a, b, rest_length=1.0, stiffness=1e9))
+    with pytest.raises(ValueError, match="stiffness"):
+        world.step(1.0 / 60.0)
+    assert world.steps == 0 and world.time == 0.0
+    np.testing.assert_array_equal(a.position, [0.0, 0.0])
+    np.testing.assert_array_equal(b.position, [3.0, 0.0])
+    np.testing.assert_array_equal(a.velocity, [0.0, 0.0])
+    s.stiffness = 10.0
+    for _ in range(10):
+        world.step(1.0 / 60.0)
+    assert np.all(np.isfinite(a.position)) and np.all(np.isfinite(b.position))
+    assert a.position[0] > 0.0
+
+
+def test_spring_made_too_stiff_later_raises_at_step():
+    """Raising a spring's stiffness past the stable limit makes the next step raise, not NaN."""
+    world, a, b = two_circles(gravity=(0.0, 0.0))
+    s = world.add(p2.Spring(a, b, rest_length=1.0, stiffness=10.0))
+    world.step(1.0 / 60.0)
+    s.stiffness = 1e9
+    positions = (a.position, b.position)
+    with pytest.raises(ValueError, match="stiffness"):
+        world.step(1.0 / 60.0)
+    np.testing.assert_array_equal(a.position, positions[0])
+    np.testing.assert_array_equal(b.position, positions[1])
+
+
+# -- a rejected call loses nothing -----------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("field", "bad"),
+    [
+        ("radius", 0.0),
+        ("radius", -1.0),
+        ("mass", 0.0),
+        ("mass", -2.0),
+        ("restitution", -0.5),
+        ("friction", -0.5),
+        ("linear_drag", -1.0),
+        ("angular_drag", -1.0),
+        ("position", (NAN, 0.0)),
+        ("velocity", (0.0, INF)),
+        ("angle", NAN),
+        ("angular_velocity", -INF),
+    ],
+)
+def test_rejected_setter_keeps_previous_value(field, bad):
+    """After a rejected setter call every property of the body is what it was before."""
+    world = p2.World()
+    c = world.add(
+        p2.Circle(
+            position=(1.0, 2.0),
+            velocity=(0.3, 0.0),
+            radius=0.4,
+            mass=2.0,
+            restitution=0.5,
+            friction=0.2,
+            angle=0.1,
+            angular_velocity=1.0,
+        )
+    )
+    world.step(1.0 / 60.0)
+    before = body_values(c)
+    with names(field):
+        setattr(c, field, bad)
+    assert_same(before, body_values(c))
+    detached = p2.Circle(position=(1.0, 2.0), radius=0.4, mass=2.0)
+    detached_before = {k: np.array(getattr(detached, k)) for k in ("position", "radius", "mass")}
+    with names(field):
+        setattr(detached, field, bad)
+    for key, value in detached_before.items():
+        np.testing.assert_array_equal(getattr(detached, key), value, err_msg=key)
+
+
+@pytest.mark.parametrize(("field", "bad"), [("width", 0.0), ("height", -1.0), ("mass", 0.0)])
+def test_rejected_box_setter_keeps_previous_value(field, bad):
+    """A rejected box size or mass leaves the box's size, mass and moment as they were."""
+    world = p2.World()
+    b = world.add(p2.Box(width=2.0, height=1.0, mass=3.0))
+    before = body_values(b)
+    with names(field):
+        setattr(b, field, bad)
+    assert_same(before, body_values(b))
+
+
+def test_partly_bad_batch_setter_changes_no_world():
+    """A per-world setter with one bad entry raises and leaves every world's value as it was."""
+    world = p2.World(batch_size=4)
+    c = world.add(p2.Circle(radius=0.5, mass=1.0))
+    before = body_values(c)
+    with names("radius"):
+        c.radius = [0.5, 0.6, -0.1, 0.7]
+    with names("mass"):
+        c.mass = [1.0, 0.0, 2.0, 3.0]
+    with names("position"):
+        c.position = [[0.0, 0.0], [1.0, 1.0], [NAN, 0.0], [2.0, 2.0]]
+    assert_same(before, body_values(c))
+
+
+def test_fixed_body_velocity_setter_rejected_and_kept():
+    """Giving a fixed body a velocity raises (it never moves) and leaves it at rest."""
+    world = p2.World()
+    post = world.add(p2.Box(fixed=True))
+    with names("velocity"):
+        post.velocity = (1.0, 0.0)
+    with names("angular_velocity"):
+        post.angular_velocity = 1.0
+    with names("velocity"):
+        p2.Box(fixed=True, velocity=(1.0, 0.0))
+    np.testing.assert_array_equal(post.velocity, [0.0, 0.0])
+    assert post.angular_velocity == 0.0
+
+
+def test_rejected_mixing_or_bad_world_does_not_break_a_good_world():
+    """A rejected World construction has no effect on an existing world's objects."""
+    world, a, b = two_circles()
+    with pytest.raises(ValueError):
+        p2.World(restitution_mixing="bogus")
+    world.step(1.0 / 60.0)
+    assert world.steps == 1 and a.world is world and b.world is world
