@@ -167,6 +167,7 @@ class SlotStore:
         # whenever it moves or is re-inserted (see _stages._update_extents).
         self._extent_x, self._extent_y = bound.copy(), bound.copy()
         self._margin_base = self._fat_margin(np.arange(bound.size))
+        self._half_spec = self._speculative_half(np.arange(bound.size))
         self._springs_used = bool((self._spring_a >= 0).any())
         self._touch()
 
@@ -179,6 +180,16 @@ class SlotStore:
         movable = np.tile(self._motion != FIXED, self._batch)[flat]
         return np.where(movable, 0.5 * smaller, 0.0)
 
+    def _speculative_half(self, flat: np.ndarray) -> np.ndarray:
+        """Half of each body's speculative distance: the world's, but at most a quarter of
+        the body's size, so small bodies (pool balls) are not given contacts whole radii
+        away (Box2D scales its speculative distance with its length unit instead).
+        Planes have no size and take the world's."""
+        bound = self._views["bound"][flat]
+        plane = np.tile(self._kind == PLANE, self._batch)[flat]
+        size = np.where(plane, np.inf, 0.25 * bound)
+        return 0.5 * np.minimum(self._speculative, size)
+
     def _touch(self) -> None:
         """Something changed who moves or a body parameter: rebuild the step terms."""
         self._version += 1
@@ -190,11 +201,13 @@ class SlotStore:
         self._motion = np.concatenate([self._motion, np.zeros(capacity - old, np.int8)])
         self._body_objects += [None] * (capacity - old)
         self._broadphase = Broadphase(self._batch, capacity)
-        self._cache.keys = rekey(self._cache.keys, self._batch, old, self._batch, capacity)
+        cache = self._cache
+        cache.keys = rekey(cache.keys, self._batch, old, self._batch, capacity)
+        cache.body_a, cache.body_b = decode_keys(cache.keys // FEATURES, self._batch, capacity)
 
     def _cached_bodies(self) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices of the two bodies of every point in the warm-start cache."""
-        return decode_keys(self._cache.keys // FEATURES, self._batch, self._bodies.capacity)
+        return self._cache.body_a, self._cache.body_b
 
     def _slot_flat(self, slot: int) -> np.ndarray:
         """Flat indices of a slot in every world."""
@@ -266,6 +279,7 @@ class SlotStore:
         flat = self._slot_flat(slot)
         self._extent_x[flat] = self._extent_y[flat] = self._views["bound"][flat]
         self._margin_base[flat] = self._fat_margin(flat)
+        self._half_spec[flat] = self._speculative_half(flat)
         self._broadphase.mark(flat)
         self._touch()
 
@@ -310,9 +324,7 @@ class SlotStore:
         """Wake everything that was in contact with the given bodies at the last step."""
         if self._cache.keys.size == 0 or flat.size == 0:
             return
-        first, second = decode_keys(
-            self._cache.keys // FEATURES, self._batch, self._bodies.capacity
-        )
+        first, second = self._cached_bodies()
         hit = np.isin(first, flat)
         other = np.concatenate([second[hit], first[np.isin(second, flat)]])
         self._wake_islands(np.unique(other))

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .broadphase import Broadphase, rekey, split_keys
+from .broadphase import Broadphase, decode_keys, rekey, split_keys
 from .contacts import Cache
 from .narrowphase import FEATURES
 
@@ -56,9 +56,7 @@ class SnapshotMixin:
             spring_b=self._spring_b.copy(),
             bodies=self._bodies.copy_arrays(),
             springs=self._springs.copy_arrays(),
-            cache=Cache(
-                c.keys.copy(), c.normal_impulse.copy(), c.tangent_impulse.copy(), c.colour.copy()
-            ),
+            cache=c.copy(),
             time=self._time.copy(),
             steps=self.steps,
         )
@@ -126,6 +124,7 @@ class SnapshotMixin:
                 mapping = np.full(snapshot.batch_size, target)
                 part = saved.take(rows)
                 part.keys = rekey(part.keys, snapshot.batch_size, n, batch, n, mapping)
+                part.body_a, part.body_b = decode_keys(part.keys // FEATURES, batch, n)
                 parts.append(part)
         merged = parts[0]
         for part in parts[1:]:

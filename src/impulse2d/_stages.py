@@ -15,7 +15,7 @@ import numpy as np
 
 from . import springs as spring_forces
 from .contacts import Cache, Contacts, build, point_keys, soft_constraint
-from .narrowphase import COLLIDE, FEATURES, PAIR_SHAPES, Points, Shapes
+from .narrowphase import CIRCLE_CIRCLE, COLLIDE, FEATURES, PAIR_SHAPES, Points, Shapes
 from .sleep import fall_asleep
 from .state import BOX, CIRCLE, PLANE
 
@@ -112,32 +112,32 @@ class StepStages:
         fat boxes only say they might, soon) plus body-plane pairs, with something awake."""
         flat = self._views
         self._update_extents(terms)
-        reach = speed * dt
-        half_spec = 0.5 * self.speculative_distance
+        travel = speed * dt
+        # Tight boxes: the shape's box grown on each side by how far the body can travel this
+        # step and by half its speculative distance; fat boxes by two more steps of travel.
+        grow = travel + self._half_spec
+        margin = self._margin_base + 2.0 * travel
         x, y = flat["pose"][0], flat["pose"][1]
         keys, body_a, body_b = self._broadphase.update(
             x,
             y,
             self._extent_x,
             self._extent_y,
-            reach,
-            half_spec,
-            self._margin_base,
+            grow,
+            margin,
             terms.index,
             terms.present,
             self._allowed,
             self._kind,
         )
         awake = flat["awake"]
-        # Tight boxes: the shape's box grown by half the speculative distance and by how
-        # far the body can travel this step, on each side.
-        grow_a, grow_b = reach[body_a] + half_spec, reach[body_b] + half_spec
+        grow_ab = grow[body_a] + grow[body_b]
         near = (awake[body_a] | awake[body_b]) & (
             np.abs(x[body_a] - x[body_b])
-            < self._extent_x[body_a] + self._extent_x[body_b] + grow_a + grow_b
+            < self._extent_x[body_a] + self._extent_x[body_b] + grow_ab
         )
         near &= np.abs(y[body_a] - y[body_b]) < (
-            self._extent_y[body_a] + self._extent_y[body_b] + grow_a + grow_b
+            self._extent_y[body_a] + self._extent_y[body_b] + grow_ab
         )
         if not near.all():
             keys, body_a, body_b = keys[near], body_a[near], body_b[near]
@@ -173,7 +173,11 @@ class StepStages:
         n = self._bodies.capacity
         kind_span = self._batch * n * n  # keys of one pair kind lie in [k span, (k+1) span)
         edges = np.searchsorted(keys, np.arange(6) * kind_span)
-        margin = self.speculative_distance + (speed[body_a] + speed[body_b]) * dt
+        # How close a pair must be for a (speculative) contact: what the two can close this
+        # step plus their speculative distances (the same growth as their tight boxes).
+        margin = (
+            self._half_spec[body_a] + self._half_spec[body_b] + (speed[body_a] + speed[body_b]) * dt
+        )
         parts = []
         for pair_kind, collide in COLLIDE.items():
             lo, hi = edges[pair_kind], edges[pair_kind + 1]
@@ -182,7 +186,14 @@ class StepStages:
             a, b = body_a[lo:hi], body_b[lo:hi]
             kind_a, kind_b = PAIR_SHAPES[pair_kind]
             tag = ((a % n) * 65537 + b % n).astype(np.float64)
-            found = collide(self._shapes(kind_a, a), self._shapes(kind_b, b), margin[lo:hi], tag)
+            moving = pair_kind == CIRCLE_CIRCLE  # the time of impact needs velocities
+            found = collide(
+                self._shapes(kind_a, a, moving),
+                self._shapes(kind_b, b, moving),
+                margin[lo:hi],
+                tag,
+                dt,
+            )
             if found.pair.size:
                 found.pair += lo
                 parts.append(found)
@@ -190,12 +201,15 @@ class StepStages:
             return _empty_points()
         return parts[0] if len(parts) == 1 else Points.concatenate(parts)
 
-    def _shapes(self, kind: int, index: np.ndarray) -> Shapes:
+    def _shapes(self, kind: int, index: np.ndarray, with_velocity: bool = False) -> Shapes:
         flat = self._views
         pose = flat["pose"]
         shapes = Shapes(pose[0, index], pose[1, index])
         if kind == CIRCLE:
             shapes.half_w = flat["half_width"][index]
+            if with_velocity:
+                vel = flat["vel"]
+                shapes.vx, shapes.vy = vel[0, index], vel[1, index]
         elif kind == BOX:
             angle = pose[2, index]
             shapes.cos, shapes.sin = np.cos(angle), np.sin(angle)

@@ -106,8 +106,7 @@ class Broadphase:
         y: np.ndarray,
         extent_x: np.ndarray,
         extent_y: np.ndarray,
-        reach: np.ndarray,
-        half_spec: float,
+        grow: np.ndarray,
         margin: np.ndarray,
         candidates: np.ndarray,
         present: np.ndarray,
@@ -117,16 +116,14 @@ class Broadphase:
         """Refresh the pairs and return ``(keys, body_a, body_b)``.
 
         ``x, y`` are centres and ``extent_x, extent_y`` the half extents of the shapes of
-        all ``T`` bodies; ``reach`` is how far each can travel this step. A tight box is
-        the shape's box grown by ``reach + half_spec``; a re-fattened box gets ``margin +
-        2 reach`` on top. ``candidates`` are the bodies that can move this step;
-        ``present`` marks enabled non-plane bodies. ``allowed[a, b]`` says slots a and b
-        may collide, and ``kind`` gives each slot's shape kind.
+        all ``T`` bodies. A tight box is the shape's box grown by ``grow`` on every side;
+        a re-fattened box gets ``margin`` more. ``candidates`` are the bodies that can
+        move this step; ``present`` marks enabled non-plane bodies. ``allowed[a, b]``
+        says slots a and b may collide, and ``kind`` gives each slot's shape kind.
         """
         c = candidates
-        grow = reach[c] + half_spec
-        escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow > self.fat_hx[c]) | (
-            np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow > self.fat_hy[c]
+        escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow[c] > self.fat_hx[c]) | (
+            np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow[c] > self.fat_hy[c]
         )
         moved = c[escaped]
         if self.any_stale:
@@ -137,11 +134,11 @@ class Broadphase:
             return self.keys, self.body_a, self.body_b
         self.updates += moved.size
         live = present[moved]
-        grow = reach[moved] + half_spec + margin[moved] + 2.0 * reach[moved]
+        extra = grow[moved] + margin[moved]
         self.fat_x[moved] = x[moved]
         self.fat_y[moved] = y[moved]
-        self.fat_hx[moved] = np.where(live, extent_x[moved] + grow, -np.inf)
-        self.fat_hy[moved] = np.where(live, extent_y[moved] + grow, -np.inf)
+        self.fat_hx[moved] = np.where(live, extent_x[moved] + extra, -np.inf)
+        self.fat_hy[moved] = np.where(live, extent_y[moved] + extra, -np.inf)
 
         moved_mask = np.zeros(x.size, dtype=bool)
         moved_mask[moved] = True

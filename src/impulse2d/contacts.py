@@ -33,7 +33,7 @@ and matched next step with a binary search, as in box2d-lite.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -178,25 +178,29 @@ def _used_colours(
 
 @dataclass
 class Cache:
-    """What a point carries to the next step, by point key (sorted): its accumulated
-    impulses (warm start) and its colour."""
+    """What a point carries to the next step, by point key (sorted): its two bodies (flat
+    indices), its accumulated impulses (warm start) and its colour."""
 
     keys: np.ndarray
+    body_a: np.ndarray
+    body_b: np.ndarray
     normal_impulse: np.ndarray
     tangent_impulse: np.ndarray
     colour: np.ndarray
 
     @staticmethod
     def empty() -> Cache:
-        return Cache(np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros(0, np.int64))
+        index = np.zeros(0, np.int64)
+        return Cache(index, index, index, np.zeros(0), np.zeros(0), index)
+
+    def arrays(self) -> list[np.ndarray]:
+        return [getattr(self, f.name) for f in fields(self)]
 
     def take(self, rows: np.ndarray) -> Cache:
-        return Cache(
-            self.keys[rows],
-            self.normal_impulse[rows],
-            self.tangent_impulse[rows],
-            self.colour[rows],
-        )
+        return Cache(*(array[rows] for array in self.arrays()))
+
+    def copy(self) -> Cache:
+        return Cache(*(array.copy() for array in self.arrays()))
 
     def lookup(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Impulses and colour stored for ``keys`` (0, 0 and -1 where a key is new)."""
@@ -215,13 +219,14 @@ class Cache:
         """Union of two caches with disjoint keys, sorted."""
         if second.keys.size == 0:
             return first
-        keys = np.concatenate([first.keys, second.keys])
-        order = np.argsort(keys, kind="stable")
+        if first.keys.size == 0:
+            return second
+        order = np.argsort(np.concatenate([first.keys, second.keys]), kind="stable")
         return Cache(
-            keys[order],
-            np.concatenate([first.normal_impulse, second.normal_impulse])[order],
-            np.concatenate([first.tangent_impulse, second.tangent_impulse])[order],
-            np.concatenate([first.colour, second.colour])[order],
+            *(
+                np.concatenate([a, b])[order]
+                for a, b in zip(first.arrays(), second.arrays(), strict=True)
+            )
         )
 
 
@@ -267,11 +272,23 @@ class Contacts:
     def cache(self) -> Cache:
         """The points' impulses and colours by key (the points arrived sorted by key)."""
         if self.order is None:
-            return Cache(self.key, self.normal_impulse, self.tangent_impulse, self.colour)
+            return Cache(
+                self.key,
+                self.body_a,
+                self.body_b,
+                self.normal_impulse,
+                self.tangent_impulse,
+                self.colour,
+            )
         back = np.empty_like(self.order)
         back[self.order] = np.arange(self.order.size)
         return Cache(
-            self.key[back], self.normal_impulse[back], self.tangent_impulse[back], self.colour[back]
+            self.key[back],
+            self.body_a[back],
+            self.body_b[back],
+            self.normal_impulse[back],
+            self.tangent_impulse[back],
+            self.colour[back],
         )
 
 

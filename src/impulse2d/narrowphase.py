@@ -62,6 +62,8 @@ class Shapes:
     half_h: np.ndarray | None = None
     normal_x: np.ndarray | None = None  # planes
     normal_y: np.ndarray | None = None
+    vx: np.ndarray | None = None  # velocity (circles, for the time of impact)
+    vy: np.ndarray | None = None
 
 
 @dataclass
@@ -95,37 +97,60 @@ def _points(keep: np.ndarray, pair: np.ndarray, *arrays: np.ndarray) -> Points:
     return Points(pair.reshape(-1)[rows], *picked)
 
 
-def circle_circle(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
-    """Two discs: one point on the line of centres."""
+def circle_circle(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
+    """Two discs: one point, on the line of centres *where they will meet*.
+
+    A speculative contact constrains motion along one normal: ``n . (relative motion) >=
+    -separation``, a half-plane touching the disc of forbidden offsets. Taking ``n`` from
+    the positions at the start of the step (the nearest points) is right for discs that
+    close head on, but for two balls approaching at an angle it is not the line of centres
+    when they touch, and the struck ball leaves a few degrees off (3 degrees at 4 m/s and
+    60 Hz) or a ball grazing past is nudged by a collision that never happens. Discs move
+    in straight lines within a step, so the half-plane is taken where it matters: at the
+    time of impact ``t`` solving ``|d + u t| = R`` (``d`` the offset of the centres, ``u``
+    their relative velocity, ``R`` the sum of radii) if they will meet, else at the time of
+    closest approach; the separation is then ``n . d - R``.
+    """
     dx, dy = b.x - a.x, b.y - a.y
     dist = np.hypot(dx, dy)
+    reach_sum = a.half_w + b.half_w
+    separation = dist - reach_sum
+    ux, uy = b.vx - a.vx, b.vy - a.vy
+    closing = dx * ux + dy * uy  # d . u < 0: approaching
+    speed2 = ux * ux + uy * uy
+    ahead = (separation > 0.0) & (closing < 0.0)
+    when = np.zeros(dx.size)
+    if ahead.any():
+        # Impact: u.u t^2 + 2 d.u t + (d.d - R^2) = 0, the first root; closest approach
+        # (a miss): t = -d.u / u.u.
+        safe2 = np.where(ahead, speed2, 1.0)
+        disc = closing * closing - speed2 * (dist * dist - reach_sum * reach_sum)
+        impact = (-closing - np.sqrt(np.maximum(disc, 0.0))) / safe2
+        when = np.where(ahead, np.where(disc >= 0.0, impact, -closing / safe2), 0.0)
+        dx_t, dy_t = dx + ux * when, dy + uy * when
+    else:
+        dx_t, dy_t = dx, dy
+    length = np.hypot(dx_t, dy_t)
     # Coincident centres have no line of centres. Pick a direction from the pair's tag by
     # the golden angle: deterministic, and different pairs get different directions, so a
     # pile spawned in one spot fans out in every direction instead of along one axis.
-    degenerate = dist < 1e-12
+    degenerate = length < 1e-12
     phi = tag * _GOLDEN_ANGLE
-    safe = np.where(degenerate, 1.0, dist)
-    nx = np.where(degenerate, np.cos(phi), dx / safe)
-    ny = np.where(degenerate, np.sin(phi), dy / safe)
-    separation = dist - a.half_w - b.half_w
-    reach = a.half_w + 0.5 * separation  # from A's centre to the midpoint of the surfaces
-    rax, ray = nx * reach, ny * reach
+    safe = np.where(degenerate, 1.0, length)
+    nx = np.where(degenerate, np.cos(phi), dx_t / safe)
+    ny = np.where(degenerate, np.sin(phi), dy_t / safe)
+    separation = np.where(ahead, nx * dx + ny * dy - reach_sum, separation)
+    # Anchors on the normal through each centre (midway between the surfaces), so the
+    # normal impulse never turns a disc even when the impact normal is not today's line of
+    # centres.
+    reach_a, reach_b = a.half_w + 0.5 * separation, -(b.half_w + 0.5 * separation)
+    rax, ray, rbx, rby = nx * reach_a, ny * reach_a, nx * reach_b, ny * reach_b
     pair = np.arange(dx.size)
-    return _points(
-        separation < margin,
-        pair,
-        nx,
-        ny,
-        rax,
-        ray,
-        rax - dx,
-        ray - dy,
-        separation,
-        np.zeros(dx.size, np.int64),
-    )
+    feature = np.zeros(dx.size, np.int64)
+    return _points(separation < margin, pair, nx, ny, rax, ray, rbx, rby, separation, feature)
 
 
-def circle_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
+def circle_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
     """Disc A against box B: closest point on the box, or the nearest face if inside."""
     c, s, hw, hh, r = b.cos, b.sin, b.half_w, b.half_h, a.half_w
     dx, dy = a.x - b.x, a.y - b.y  # circle centre relative to the box, world frame
@@ -164,7 +189,7 @@ def circle_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Poi
     )
 
 
-def box_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
+def box_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
     """Two boxes by separating axes, with up to two points clipped from the incident edge.
 
     The axis of least penetration (or greatest separation) among the four face normals
@@ -272,7 +297,7 @@ _CORNER_X = np.array([1.0, -1.0, -1.0, 1.0])
 _CORNER_Y = np.array([1.0, 1.0, -1.0, -1.0])
 
 
-def box_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
+def box_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
     """Box A against half-space B: every corner within the margin (up to four).
 
     A resting box has two (its lower corners); a box spinning fast near the ground can
@@ -296,7 +321,7 @@ def box_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Poin
     return _points(keep, pair, nx, ny, cx, cy, cx + offset_x, cy + offset_y, sep, corners)
 
 
-def circle_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> Points:
+def circle_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
     """Disc A against half-space B: one point below the centre."""
     nx, ny = b.normal_x, b.normal_y
     separation = (a.x - b.x) * nx + (a.y - b.y) * ny - a.half_w
@@ -317,7 +342,7 @@ def circle_plane(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray) -> P
     )
 
 
-CollideFn = Callable[[Shapes, Shapes, np.ndarray, np.ndarray], Points]
+CollideFn = Callable[[Shapes, Shapes, np.ndarray, np.ndarray, float], Points]
 
 #: The narrowphase table: pair kind -> function. Chosen by table, not by double dispatch.
 COLLIDE: dict[int, CollideFn] = {

@@ -49,7 +49,8 @@ class World(SlotStore, SnapshotMixin, StepStages):
       against immovable bodies). ``contact_push_speed`` (m/s) caps how fast overlapping
       bodies are pushed apart, so a heavily overlapping start does not explode.
     * ``speculative_distance`` (m): contacts are made this much before shapes touch, on
-      top of how far the pair can close in the step.
+      top of how far the pair can close in the step (at most a quarter of a body's size,
+      so small bodies get proportionally smaller distances).
     * ``sleeping``: let islands of slow bodies sleep (``time_to_sleep`` s below
       ``sleep_speed`` m/s). Sleeping bodies cost nothing until something touches them.
     """
@@ -75,6 +76,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
         self._version = 0  # bumped by every change to who moves or to body parameters
         self._terms: StepTerms | None = None
         self._forces_pending = False
+        self._speculative = _checks.non_negative("speculative_distance", speculative_distance)
         self._init_slots(_checks.positive_int("batch_size", batch_size))
         self.gravity = gravity
         self.substeps = substeps
@@ -90,9 +92,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
             "contact_damping_ratio", contact_damping_ratio
         )
         self.contact_push_speed = _checks.positive("contact_push_speed", contact_push_speed)
-        self.speculative_distance = _checks.non_negative(
-            "speculative_distance", speculative_distance
-        )
+        self.speculative_distance = speculative_distance
         if not isinstance(sleeping, (bool, np.bool_)):
             raise ValueError(f"sleeping must be a bool, got {sleeping!r}")
         self.sleeping = bool(sleeping)
@@ -115,6 +115,17 @@ class World(SlotStore, SnapshotMixin, StepStages):
         b["awake"][...] |= b["enabled"] & (self._dynamic_flat.reshape(b["awake"].shape))
         b["sleep_time"][...] = 0.0
         self._touch()
+
+    @property
+    def speculative_distance(self) -> float:
+        """How far apart (m) shapes get a contact before they touch, on top of how far they
+        can close in the step; a body uses at most a quarter of its size."""
+        return self._speculative
+
+    @speculative_distance.setter
+    def speculative_distance(self, value: float) -> None:
+        self._speculative = _checks.non_negative("speculative_distance", value)
+        self._half_spec = self._speculative_half(np.arange(self._views["bound"].size))
 
     @property
     def substeps(self) -> int:
