@@ -29,6 +29,7 @@ both are the same constraint, iterated, which is what lets boxes stack.
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -38,14 +39,52 @@ from .narrowphase import FEATURES
 _RESTITUTION_SWEEPS = 8  # for impacts with two points on one pair (see restitution)
 
 
-def colour_indices(contacts: Contacts) -> list[tuple[np.ndarray, bool]]:
-    """For each colour, the flat velocity indices of its points as one contiguous array,
-    and whether any of its points has friction (a frictionless colour skips that part)."""
-    bounds = contacts.bounds
-    return [
-        (contacts.index6[:, lo:hi].ravel(), bool(contacts.friction[lo:hi].any()))
-        for lo, hi in itertools.pairwise(bounds)
-    ]
+@dataclass
+class Block:
+    """One colour's points, ready for the solver: only the velocity rows its Jacobians use
+    (a frictionless disc contact touches no angular velocity), gathered as one array."""
+
+    lo: int
+    hi: int
+    index: np.ndarray  # flat (3, T) indices of the used rows, row-major: (rows * k,)
+    jac_n: np.ndarray  # (rows, k)
+    inv_n: np.ndarray
+    jac_t: np.ndarray | None  # None: no friction in this colour
+    inv_t: np.ndarray | None
+    write: np.ndarray  # which of the used rows can change (their inverse mass is not 0)
+    write_index: np.ndarray  # their flat indices
+
+
+def blocks(contacts: Contacts) -> list[Block]:
+    """Split the contacts into per-colour blocks (see ``Block``), once per step."""
+    out = []
+    for lo, hi in itertools.pairwise(contacts.bounds):
+        if lo == hi:  # persistent colours can leave a colour empty
+            continue
+        jac_n, inv_n = contacts.jac_n[:, lo:hi], contacts.inv_n[:, lo:hi]
+        friction = bool(contacts.friction[lo:hi].any())
+        used = (jac_n != 0.0).any(axis=1)
+        moved = (inv_n != 0.0).any(axis=1)
+        if friction:
+            used |= (contacts.jac_t[:, lo:hi] != 0.0).any(axis=1)
+            moved |= (contacts.inv_t[:, lo:hi] != 0.0).any(axis=1)
+        rows = np.flatnonzero(used | moved)
+        index = contacts.index6[rows, lo:hi]
+        write = np.flatnonzero(moved[rows])
+        out.append(
+            Block(
+                lo=int(lo),
+                hi=int(hi),
+                index=index.ravel(),
+                jac_n=jac_n[rows],
+                inv_n=inv_n[rows],
+                jac_t=contacts.jac_t[rows, lo:hi] if friction else None,
+                inv_t=contacts.inv_t[rows, lo:hi] if friction else None,
+                write=write,
+                write_index=index[write].ravel(),
+            )
+        )
+    return out
 
 
 def separation(contacts: Contacts, pose: np.ndarray) -> np.ndarray:
@@ -68,7 +107,7 @@ def warm_start(contacts: Contacts, velocity: np.ndarray) -> None:
 
 def solve(
     contacts: Contacts,
-    indices: list[tuple[np.ndarray, bool]],
+    colour_blocks: list[Block],
     velocity: np.ndarray,
     current_separation: np.ndarray,
     inv_h: float,
@@ -93,40 +132,39 @@ def solve(
         impulse_scale = np.where(speculative, 0.0, contacts.impulse_scale)
     else:
         bias = np.where(speculative, s * inv_h, 0.0)
-        mass_scale = np.ones_like(s)
-        impulse_scale = np.zeros_like(s)
+        mass_scale = impulse_scale = None
     flat = velocity.reshape(-1)
-    bounds = contacts.bounds
-    for k, (index, has_friction) in enumerate(indices):
-        lo, hi = bounds[k], bounds[k + 1]
-        v = flat[index].reshape(6, hi - lo)
+    for block in colour_blocks:
+        lo, hi = block.lo, block.hi
+        v = flat[block.index].reshape(-1, hi - lo)
         # Non-penetration.
-        vn = (contacts.jac_n[:, lo:hi] * v).sum(axis=0)
+        vn = (block.jac_n * v).sum(axis=0)
         accumulated = contacts.normal_impulse[lo:hi]  # a view: read before writing back
-        impulse = (
-            -contacts.normal_mass[lo:hi] * (mass_scale[lo:hi] * vn + bias[lo:hi])
-            - impulse_scale[lo:hi] * accumulated
-        )
+        if mass_scale is None:
+            impulse = -contacts.normal_mass[lo:hi] * (vn + bias[lo:hi])
+        else:
+            impulse = (
+                -contacts.normal_mass[lo:hi] * (mass_scale[lo:hi] * vn + bias[lo:hi])
+                - impulse_scale[lo:hi] * accumulated
+            )
         total = np.maximum(accumulated + impulse, 0.0)
         impulse = total - accumulated
         contacts.normal_impulse[lo:hi] = total
         np.maximum(
             contacts.max_normal_impulse[lo:hi], impulse, out=contacts.max_normal_impulse[lo:hi]
         )
-        v += impulse * contacts.inv_n[:, lo:hi]
-        if not has_friction:
-            flat[index] = v.ravel()
-            continue
-        # Friction, within the cone of the normal impulse just found.
-        vt = (contacts.jac_t[:, lo:hi] * v).sum(axis=0)
-        accumulated = contacts.tangent_impulse[lo:hi]  # a view: take the change first
-        limit = contacts.friction[lo:hi] * total
-        friction = np.minimum(
-            np.maximum(accumulated - contacts.tangent_mass[lo:hi] * vt, -limit), limit
-        )
-        v += (friction - accumulated) * contacts.inv_t[:, lo:hi]
-        contacts.tangent_impulse[lo:hi] = friction
-        flat[index] = v.ravel()
+        v += impulse * block.inv_n
+        if block.jac_t is not None:
+            # Friction, within the cone of the normal impulse just found.
+            vt = (block.jac_t * v).sum(axis=0)
+            accumulated = contacts.tangent_impulse[lo:hi]  # a view: take the change first
+            limit = contacts.friction[lo:hi] * total
+            friction = np.minimum(
+                np.maximum(accumulated - contacts.tangent_mass[lo:hi] * vt, -limit), limit
+            )
+            v += (friction - accumulated) * block.inv_t
+            contacts.tangent_impulse[lo:hi] = friction
+        flat[block.write_index] = v[block.write].ravel()
 
 
 def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: float) -> None:

@@ -196,7 +196,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
         vel, pose = self._views["vel"], self._views["pose"]
         push, inv_h = self.contact_push_speed, 1.0 / h
         if contacts is not None:
-            indices = solver.colour_indices(contacts)
+            indices = solver.blocks(contacts)
             separation = contacts.separation
         if terms.compact:  # few bodies move: integrate those only, by index
             flat_vel, flat_pose, index3 = vel.reshape(-1), pose.reshape(-1), terms.index3
