@@ -185,8 +185,9 @@ class StepStages:
                 continue
             a, b = body_a[lo:hi], body_b[lo:hi]
             kind_a, kind_b = PAIR_SHAPES[pair_kind]
-            tag = ((a % n) * 65537 + b % n).astype(np.float64)
             moving = pair_kind == CIRCLE_CIRCLE  # the time of impact needs velocities
+            # A number per pair for coincident discs (see circle_circle); others ignore it.
+            tag = ((a % n) * 65537 + b % n).astype(np.float64) if moving else None
             found = collide(
                 self._shapes(kind_a, a, moving),
                 self._shapes(kind_b, b, moving),

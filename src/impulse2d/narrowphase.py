@@ -115,39 +115,43 @@ def circle_circle(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt:
     dist = np.hypot(dx, dy)
     reach_sum = a.half_w + b.half_w
     separation = dist - reach_sum
-    ux, uy = b.vx - a.vx, b.vy - a.vy
+    # Pairs whose surfaces are farther apart than they can close this step are done.
+    pair = np.flatnonzero(separation < margin)
+    if pair.size < dx.size:
+        dx, dy, dist, reach_sum = dx[pair], dy[pair], dist[pair], reach_sum[pair]
+        separation = separation[pair]
+    ux, uy = b.vx[pair] - a.vx[pair], b.vy[pair] - a.vy[pair]
     closing = dx * ux + dy * uy  # d . u < 0: approaching
-    speed2 = ux * ux + uy * uy
     ahead = (separation > 0.0) & (closing < 0.0)
-    when = np.zeros(dx.size)
+    dx_t, dy_t, length = dx, dy, dist
     if ahead.any():
         # Impact: u.u t^2 + 2 d.u t + (d.d - R^2) = 0, the first root; closest approach
         # (a miss): t = -d.u / u.u.
+        speed2 = ux * ux + uy * uy
         safe2 = np.where(ahead, speed2, 1.0)
         disc = closing * closing - speed2 * (dist * dist - reach_sum * reach_sum)
         impact = (-closing - np.sqrt(np.maximum(disc, 0.0))) / safe2
         when = np.where(ahead, np.where(disc >= 0.0, impact, -closing / safe2), 0.0)
         dx_t, dy_t = dx + ux * when, dy + uy * when
-    else:
-        dx_t, dy_t = dx, dy
-    length = np.hypot(dx_t, dy_t)
-    # Coincident centres have no line of centres. Pick a direction from the pair's tag by
-    # the golden angle: deterministic, and different pairs get different directions, so a
-    # pile spawned in one spot fans out in every direction instead of along one axis.
+        length = np.hypot(dx_t, dy_t)
     degenerate = length < 1e-12
-    phi = tag * _GOLDEN_ANGLE
     safe = np.where(degenerate, 1.0, length)
-    nx = np.where(degenerate, np.cos(phi), dx_t / safe)
-    ny = np.where(degenerate, np.sin(phi), dy_t / safe)
+    nx, ny = dx_t / safe, dy_t / safe
+    if degenerate.any():
+        # Coincident centres have no line of centres. Pick a direction from the pair's tag
+        # by the golden angle: deterministic, and different pairs get different directions,
+        # so a pile spawned in one spot fans out in every direction, not along one axis.
+        phi = tag[pair] * _GOLDEN_ANGLE
+        nx, ny = np.where(degenerate, np.cos(phi), nx), np.where(degenerate, np.sin(phi), ny)
     separation = np.where(ahead, nx * dx + ny * dy - reach_sum, separation)
     # Anchors on the normal through each centre (midway between the surfaces), so the
-    # normal impulse never turns a disc even when the impact normal is not today's line of
-    # centres.
-    reach_a, reach_b = a.half_w + 0.5 * separation, -(b.half_w + 0.5 * separation)
+    # normal impulse never turns a disc even when the impact normal is not the line of
+    # centres now.
+    half_a = a.half_w[pair] if pair.size < a.half_w.size else a.half_w
+    reach_a = half_a + 0.5 * separation
+    reach_b = -(reach_sum - half_a + 0.5 * separation)
     rax, ray, rbx, rby = nx * reach_a, ny * reach_a, nx * reach_b, ny * reach_b
-    pair = np.arange(dx.size)
-    feature = np.zeros(dx.size, np.int64)
-    return _points(separation < margin, pair, nx, ny, rax, ray, rbx, rby, separation, feature)
+    return Points(pair, nx, ny, rax, ray, rbx, rby, separation, np.zeros(pair.size, np.int64))
 
 
 def circle_box(a: Shapes, b: Shapes, margin: np.ndarray, tag: np.ndarray, dt: float) -> Points:
