@@ -190,9 +190,14 @@ class SlotStore:
         size = np.where(plane, np.inf, 0.25 * bound)
         return 0.5 * np.minimum(self._speculative, size)
 
-    def _touch(self) -> None:
-        """Something changed who moves or a body parameter: rebuild the step terms."""
-        self._version += 1
+    def _touch(self, flat: np.ndarray | None = None) -> None:
+        """Something changed who moves or a body parameter: rebuild the step terms, all of
+        them, or (``flat`` given) only those of the bodies that woke up or fell asleep."""
+        if flat is None:
+            self._version += 1
+            self._woken = []
+        else:
+            self._woken.append(flat)
 
     def _grow_bodies(self, capacity: int) -> None:
         old = self._bodies.capacity
@@ -318,7 +323,7 @@ class SlotStore:
         awake[members] = True
         b.flat("sleep_time")[members] = 0.0
         island[members] = -1
-        self._touch()
+        self._touch(members)
 
     def _wake_neighbours(self, flat: np.ndarray) -> None:
         """Wake everything that was in contact with the given bodies at the last step."""

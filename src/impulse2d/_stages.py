@@ -58,39 +58,65 @@ class StepStages:
     """Mixin of ``World``: the pipeline stages."""
 
     def _step_terms(self, h: float) -> StepTerms:
+        """The step terms, rebuilt after a change (see ``_touch``): fully after an edit,
+        or only for the bodies that woke up or fell asleep since the last step."""
         terms = self._terms
-        if terms is not None and terms.version == self._version and terms.h == h:
-            return terms
+        if terms is None or terms.version != self._version or terms.h != h:
+            self._woken = []
+            self._terms = self._full_terms(h)
+            return self._terms
+        if self._woken:
+            changed = np.unique(np.concatenate(self._woken))
+            self._woken = []
+            self._refresh_terms(terms, changed)
+        return terms
+
+    def _full_terms(self, h: float) -> StepTerms:
         flat = self._views
-        moving = flat["awake"] & flat["enabled"]
-        movable = moving & self._dynamic_flat
-        accel_h = np.zeros((3, movable.size))
-        accel_h[0][movable] = h * self._gravity[0]
-        accel_h[1][movable] = h * self._gravity[1]
-        damping = np.ones((3, movable.size))
+        total = flat["awake"].size
+        # Per-body factors that do not depend on who is awake, kept so that an incremental
+        # refresh selects exactly the same numbers a full rebuild would.
         # Drag multiplies velocity by exp(-drag h) per substep: exactly exp(-drag t) over
         # any number of steps (an explicit v -= drag v h would drift from it).
-        damping[0][movable] = np.exp(-h * flat["linear_drag"][movable])
-        damping[1] = damping[0]
-        damping[2][movable] = np.exp(-h * flat["angular_drag"][movable])
-        index = np.flatnonzero(moving)
-        total = moving.size
-        self._terms = StepTerms(
+        self._drag_factors = (np.exp(-h * flat["linear_drag"]), np.exp(-h * flat["angular_drag"]))
+        terms = StepTerms(
             version=self._version,
             h=h,
-            movable=movable,
-            moving=moving,
+            movable=np.zeros(total, dtype=bool),
+            moving=np.zeros(total, dtype=bool),
             present=flat["enabled"] & self._solid_flat,
-            index=index,
-            index3=np.concatenate([index, index + total, index + 2 * total]),
-            compact=index.size < _COMPACT_FRACTION * total,
-            travel=np.where(moving, h, 0.0),
-            accel_h=accel_h,
-            damping=damping,
-            inv_mass=np.where(movable, flat["inv_mass"], 0.0),
-            inv_moment=np.where(movable, flat["inv_moment"], 0.0),
+            index=np.zeros(0, np.int64),
+            index3=np.zeros(0, np.int64),
+            compact=False,
+            travel=np.zeros(total),
+            accel_h=np.zeros((3, total)),
+            damping=np.ones((3, total)),
+            inv_mass=np.zeros(total),
+            inv_moment=np.zeros(total),
         )
-        return self._terms
+        self._refresh_terms(terms, np.arange(total))
+        return terms
+
+    def _refresh_terms(self, terms: StepTerms, bodies: np.ndarray) -> None:
+        """Recompute the awake-dependent terms of some bodies, in place."""
+        flat, h = self._views, terms.h
+        moving = flat["awake"][bodies] & flat["enabled"][bodies]
+        movable = moving & self._dynamic_flat[bodies]
+        terms.moving[bodies] = moving
+        terms.movable[bodies] = movable
+        terms.travel[bodies] = np.where(moving, h, 0.0)
+        terms.accel_h[0, bodies] = np.where(movable, h * self._gravity[0], 0.0)
+        terms.accel_h[1, bodies] = np.where(movable, h * self._gravity[1], 0.0)
+        linear, angular = self._drag_factors
+        terms.damping[0, bodies] = np.where(movable, linear[bodies], 1.0)
+        terms.damping[1, bodies] = terms.damping[0, bodies]
+        terms.damping[2, bodies] = np.where(movable, angular[bodies], 1.0)
+        terms.inv_mass[bodies] = np.where(movable, flat["inv_mass"][bodies], 0.0)
+        terms.inv_moment[bodies] = np.where(movable, flat["inv_moment"][bodies], 0.0)
+        total = terms.moving.size
+        terms.index = np.flatnonzero(terms.moving)
+        terms.index3 = np.concatenate([terms.index, terms.index + total, terms.index + 2 * total])
+        terms.compact = terms.index.size < _COMPACT_FRACTION * total
 
     def _speed_bound(self, terms: StepTerms) -> np.ndarray:
         """An upper bound on how fast any point of each body moves (m/s):
@@ -404,7 +430,7 @@ class StepStages:
             )
             if not np.array_equal(now, awake[kinematic]):
                 awake[kinematic] = now
-                self._touch()
+                self._touch(kinematic)
         if self.sleeping:
             self._update_sleep(terms, contacts, speed, springs, dt)
         self._time += dt
@@ -447,4 +473,4 @@ class StepStages:
             flat["awake"][sleepy] = False
             flat["vel"][:, sleepy] = 0.0
             flat["island"][sleepy] = label[sleepy]
-            self._touch()
+            self._touch(sleepy)

@@ -75,6 +75,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
         self._cache = Cache.empty()
         self._version = 0  # bumped by every change to who moves or to body parameters
         self._terms: StepTerms | None = None
+        self._woken: list[np.ndarray] = []  # bodies whose step terms need a refresh
         self._forces_pending = False
         self._speculative = _checks.non_negative("speculative_distance", speculative_distance)
         self._init_slots(_checks.positive_int("batch_size", batch_size))
