@@ -49,6 +49,47 @@ class StepTerms:
 _COMPACT_FRACTION = 0.4  # below this fraction of moving bodies, integrate by index
 
 
+class Integrator:
+    """Semi-implicit Euler for one step's substeps: ``v = v exp(-drag h) + h a``, then
+    ``x += h v`` with the solved velocity. Works on every body, or, when few move, only on
+    the moving ones by index (``StepTerms.compact``)."""
+
+    def __init__(
+        self,
+        vel: np.ndarray,
+        pose: np.ndarray,
+        terms: StepTerms,
+        accel_h: np.ndarray,
+        accelerated: bool,
+    ) -> None:
+        self.vel, self.pose, self.terms = vel, pose, terms
+        self.accel_h = accel_h if accelerated else None  # None: no gravity, no forces
+        if terms.compact:
+            self.index3 = terms.index3
+            self.damping = terms.damping.reshape(-1)[self.index3]
+            self.accel = None if self.accel_h is None else accel_h.reshape(-1)[self.index3]
+            self.step = terms.h
+        else:
+            self.travel = np.empty_like(vel)
+
+    def velocities(self) -> None:
+        if self.terms.compact:
+            flat = self.vel.reshape(-1)
+            moved = flat[self.index3] * self.damping
+            flat[self.index3] = moved if self.accel is None else moved + self.accel
+            return
+        self.vel *= self.terms.damping
+        if self.accel_h is not None:
+            self.vel += self.accel_h
+
+    def positions(self) -> None:
+        if self.terms.compact:
+            self.pose.reshape(-1)[self.index3] += self.vel.reshape(-1)[self.index3] * self.step
+            return
+        np.multiply(self.vel, self.terms.travel, out=self.travel)
+        self.pose += self.travel
+
+
 def _empty_points() -> Points:
     empty = np.zeros(0)
     return Points(np.zeros(0, np.int64), *([empty] * 7), np.zeros(0, np.int64))
@@ -466,11 +507,10 @@ class StepStages:
             )
         movable = terms.movable
         joined = movable[first] & movable[second]
-        sleepy, label = fall_asleep(
-            flat["awake"], movable, sleep_time, self.time_to_sleep, (first[joined], second[joined])
-        )
+        ready = index[ready >= self.time_to_sleep]
+        sleepy, label = fall_asleep(ready, (first[joined], second[joined]))
         if sleepy.size:
             flat["awake"][sleepy] = False
             flat["vel"][:, sleepy] = 0.0
-            flat["island"][sleepy] = label[sleepy]
+            flat["island"][sleepy] = label
             self._touch(sleepy)

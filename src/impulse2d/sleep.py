@@ -37,36 +37,29 @@ def components(nodes: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def islands(total: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Island label (a flat body index) of every body, joined by the edges given."""
-    touched = np.unique(np.concatenate([first, second]))
-    label = np.arange(total)
-    if touched.size == 0:
-        return label
-    local = components(
-        touched.size, np.searchsorted(touched, first), np.searchsorted(touched, second)
-    )
-    label[touched] = touched[local]
-    return label
-
-
 def fall_asleep(
-    awake: np.ndarray,
-    candidate: np.ndarray,
-    sleep_time: np.ndarray,
-    time_to_sleep: float,
+    ready: np.ndarray,
     edges: tuple[np.ndarray, np.ndarray],
 ) -> tuple[np.ndarray, np.ndarray]:
     """Bodies whose whole island has been slow long enough, and their island labels.
 
-    ``candidate`` marks awake dynamic bodies (the only ones that can sleep); ``edges``
-    join bodies that must sleep together.
+    ``ready`` lists the bodies (flat indices) slow for long enough; ``edges`` join awake
+    dynamic bodies that must sleep together. Only edges that touch a ready body matter:
+    an island with a body that is not ready stays awake, and islands of bodies that are
+    not ready are of no interest, so the work is proportional to the ready bodies.
+    Returns the bodies to put to sleep and an island label for each (a member's index).
     """
-    label = islands(awake.size, *edges)
-    # An island is as restless as its most restless body; non-candidates in an island
-    # (none, since edges only join candidates) would keep it awake.
-    restless = np.where(candidate, sleep_time, -np.inf)
-    island_time = np.full(awake.size, np.inf)
-    np.minimum.at(island_time, label, restless)
-    sleepy = candidate & (island_time[label] >= time_to_sleep)
-    return np.flatnonzero(sleepy), label
+    first, second = edges
+    is_ready = np.zeros(
+        max(int(ready.max()), int(first.max(initial=0)), int(second.max(initial=0))) + 1, dtype=bool
+    )
+    is_ready[ready] = True
+    touching = is_ready[first] | is_ready[second]
+    first, second = first[touching], second[touching]
+    nodes = np.unique(np.concatenate([ready, first, second]))
+    local = components(nodes.size, np.searchsorted(nodes, first), np.searchsorted(nodes, second))
+    # An island sleeps only if every member is ready.
+    blocked = np.zeros(nodes.size, dtype=bool)
+    np.logical_or.at(blocked, local, ~is_ready[nodes])
+    sleepy = is_ready[nodes] & ~blocked[local]
+    return nodes[sleepy], nodes[local[sleepy]]

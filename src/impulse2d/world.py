@@ -21,7 +21,7 @@ from . import _checks, solver
 from . import springs as spring_forces
 from ._slots import SlotStore
 from ._snapshot import SnapshotMixin
-from ._stages import StepStages, StepTerms
+from ._stages import Integrator, StepStages, StepTerms
 from .contacts import MIXING_RULES, Cache, Contacts
 from .energy import Energy, energy_of
 from .state import BOX, CIRCLE
@@ -196,31 +196,23 @@ class World(SlotStore, SnapshotMixin, StepStages):
         the soft bias, integrate positions, relax without it; then restitution once."""
         vel, pose = self._views["vel"], self._views["pose"]
         push, inv_h = self.contact_push_speed, 1.0 / h
+        integrate = Integrator(
+            vel, pose, terms, accel_h, self._gravity.any() or self._forces_pending
+        )
         if contacts is not None:
-            indices = solver.blocks(contacts)
+            blocks = solver.blocks(contacts)
             separation = contacts.separation
-        if terms.compact:  # few bodies move: integrate those only, by index
-            flat_vel, flat_pose, index3 = vel.reshape(-1), pose.reshape(-1), terms.index3
-            damping = terms.damping.reshape(-1)[index3]
-            accel = accel_h.reshape(-1)[index3]
         for _ in range(self._substeps):
-            if terms.compact:
-                flat_vel[index3] = flat_vel[index3] * damping + accel
-            else:
-                vel *= terms.damping  # drag, then gravity and forces
-                vel += accel_h
+            integrate.velocities()  # drag, then gravity and forces
             if springs is not None:
                 self._apply_springs(terms, springs, h)
             if contacts is not None:
                 solver.warm_start(contacts, vel)
-                solver.solve(contacts, indices, vel, separation, inv_h, True, push)
-            if terms.compact:
-                flat_pose[index3] += flat_vel[index3] * h
-            else:
-                pose += vel * terms.travel
+                solver.solve(contacts, blocks, vel, separation, inv_h, True, push)
+            integrate.positions()
             if contacts is not None:
                 separation = solver.separation(contacts, pose)
-                solver.solve(contacts, indices, vel, separation, inv_h, False, push)
+                solver.solve(contacts, blocks, vel, separation, inv_h, False, push)
         if contacts is not None:
             solver.restitution(contacts, vel, self.restitution_threshold, h)
 
