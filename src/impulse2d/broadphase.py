@@ -232,6 +232,9 @@ class Broadphase:
         # (which must span the widest body) stays narrow.
         typical = np.median(half)
         large = half > 8.0 * typical
+        # One sorted axis for all worlds: offset each world by more than any body reaches
+        # (large ones included), so a body's window never reaches into another world.
+        spread = 2.0 * (np.abs(self.fat_x[bodies]).max() + half.max()) + 1.0
         first_parts, second_parts = [], []
         if large.any():
             big = bodies[large]
@@ -245,9 +248,6 @@ class Broadphase:
             bodies, half = bodies[~large], half[~large]
         widest = 2.0 * half.max() if half.size else 0.0
         left = self.fat_x[bodies] - half
-        # One sorted axis for all worlds: offset each world by more than any coordinate
-        # spread, so a body's window never reaches into another world.
-        spread = 2.0 * (np.abs(self.fat_x[bodies]).max() + half.max()) + 1.0
         order = np.argsort((bodies // n) * spread + left, kind="stable")
         sorted_bodies = bodies[order]
         sorted_keys = ((bodies // n) * spread + left)[order]
@@ -264,7 +264,7 @@ class Broadphase:
         position = lo[owner] + (np.arange(total) - start[owner])
         f = moved[owner]
         s = sorted_bodies[position]
-        hit = self._overlap(f, s)
+        hit = self._overlap(f, s) & (f // n == s // n)
         first_parts.append(f[hit])
         second_parts.append(s[hit])
         return np.concatenate(first_parts), np.concatenate(second_parts)
