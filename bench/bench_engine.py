@@ -9,15 +9,24 @@ for a rate higher is better and for a time lower is better).
   (default 1,024): world-steps/s and us per world-step, with impulse2d's default sleeping
   on and, as a second row, with sleeping off (pymunk never sleeps). impulse2d steps the
   whole batch at once (``World.replicate``); pymunk steps one ``Space`` per world.
+* Pool break, varied shots: the same batch, but every world plays its own shot (cue ball
+  at y = offset_i, offsets uniform in +-1 cm, ``scenes.pool_cue_offsets``), the realistic
+  RL case; impulse2d sleeping on (its default), pymunk sleeping off as elsewhere.
 * Box pyramids of base 10 and 20 (dt = 1/60): ms/step over 300 steps, and the top box's
   drift after 600 steps (10 s), impulse2d with sleeping off and its default 4 substeps.
+* Rain of 250, 1,000 and 4,000 circles and boxes onto the ground at the same density
+  (``scenes.rain``, dt = 1/60): ms/step over 120 steps after 60 untimed ones, and in the
+  notes how the impulse2d time grows from the previous count (linear, not quadratic,
+  scaling); impulse2d sleeping off and default substeps, pymunk defaults.
 
 Checks printed with the table: momentum of the pool break against the analytic
 ``P0 exp(-drag t)`` until the first cushion contact, every ball on the table and finite,
-the largest ball-ball overlap and cushion penetration seen during the break, and that
-world 0 of the batch ends bitwise equal to the single world.
+the largest ball-ball overlap and cushion penetration seen during the break, that
+world 0 of the batch ends bitwise equal to the single world, and that worlds of the
+varied-shot batch end bitwise equal to single worlds built at their offsets.
 
-Run ``python bench/bench_engine.py`` (about a minute on 2 cores), ``--quick`` for a smoke
+Run ``python bench/bench_engine.py`` (about 2.5 minutes on 2 cores, 100 s of it building the
+4,000-body impulse2d rain world: ``World.add`` costs O(capacity^2)), ``--quick`` for a smoke
 test, ``--positions`` for the final ball positions of both engines, ``--profile`` for a
 cProfile of pool steps.
 """
@@ -43,16 +52,35 @@ import impulse2d as p2
 
 try:  # imported as part of the repo (``bench.bench_engine``) ...
     from bench import pymunk_peer
-    from bench.scenes import PoolBreak, Pyramid, pool_break, pyramid, validate
+    from bench.scenes import (
+        PoolBreak,
+        Pyramid,
+        Rain,
+        pool_break,
+        pool_cue_offsets,
+        pyramid,
+        rain,
+        validate,
+    )
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import pymunk_peer
-    from scenes import PoolBreak, Pyramid, pool_break, pyramid, validate
+    from scenes import (
+        PoolBreak,
+        Pyramid,
+        Rain,
+        pool_break,
+        pool_cue_offsets,
+        pyramid,
+        rain,
+        validate,
+    )
 
 # -- impulse2d settings ----------------------------------------------------------------------
 POOL_SUBSTEPS = 2  # solver substeps per pool step (to be tuned)
 POOL_RESTITUTION_THRESHOLD = 0.05  # m/s: no gravity, so no resting jitter; slow hits bounce
 PYRAMID_SUBSTEPS = 4  # impulse2d's default
 PYRAMID_SLEEPING = False  # the drift is measured on awake boxes, and so is the timing
+RAIN_SLEEPING = False  # the piles would fall asleep; time the awake cost, as pymunk's
 
 # -- benchmark settings ----------------------------------------------------------------------
 DEFAULT_WORLDS = 1024
@@ -60,6 +88,9 @@ BATCH_BUDGET_S = 90.0  # a batch run stops early (timing a prefix of the break) 
 SINGLE_REPEATS = 5  # single-world impulse2d runs; the median is reported
 PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
 PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
+RAIN_REPEATS = 3  # timed window of the rain scenes, both engines (1 with --quick)
+RAIN_COUNTS = (250, 1000, 4000)
+RAIN_COUNTS_QUICK = (250, 1000)
 MEAN_STEP_TARGET_US = 100.0
 PYRAMID_RATIO_TARGET = 5.0
 
@@ -152,6 +183,7 @@ def pool_break_impulse2d(
     sleeping: bool = True,
     *,
     budget_s: float | None = None,
+    cue_y_offsets: np.ndarray | None = None,
 ) -> dict:
     """Time ``n_worlds`` impulse2d pool-break worlds, stepped as one batch, for ``steps`` steps.
 
@@ -160,9 +192,15 @@ def pool_break_impulse2d(
     With ``budget_s``, stepping stops once that much time has passed (a prefix of the break
     is timed); ``steps`` in the result says how many steps were done.
 
+    With ``cue_y_offsets`` (``n_worlds`` values, m; see :func:`scenes.pool_cue_offsets`)
+    every world plays its own shot: one world is built, replicated, and the cue ball's
+    per-world start ``(x, cue_y_offsets[i])`` is set with the batch setter
+    ``batch.bodies[cue].position = positions`` (shape (n_worlds, 2)).
+
     Returns ``world_steps_per_s``, ``seconds``, ``steps``, ``step_us`` (duration of every
     step, single world only, else None), ``final_positions`` of world 0 (n_balls, 2),
-    ``worlds_identical`` (every world of the batch ends exactly as world 0) and ``finite``.
+    ``final_batch`` (n_balls, n_worlds, 2; batch only, else None), ``worlds_identical``
+    (every world of the batch ends exactly as world 0) and ``finite`` (every world).
     """
     scene = pool_break()
     validate(scene)
@@ -174,6 +212,15 @@ def pool_break_impulse2d(
     world, balls, _ = _pool_world(scene, substeps, sleeping)
     if n_worlds > 1:
         world = world.replicate(n_worlds)
+    if cue_y_offsets is not None:
+        offsets = np.asarray(cue_y_offsets, dtype=np.float64)
+        if offsets.shape != (n_worlds,):
+            raise ValueError(f"cue_y_offsets must have shape ({n_worlds},), got {offsets.shape}")
+        for y in (offsets.min(), offsets.max()):
+            validate(pool_break(float(y)))  # the extreme shots still start on the table
+        start = np.repeat(scene.positions[:1], n_worlds, axis=0)  # (n_worlds, 2)
+        start[:, 1] = offsets
+        world.bodies[balls[0]].position = start if n_worlds > 1 else start[0]
 
     step = world.step
     clock = time.perf_counter
@@ -199,18 +246,20 @@ def pool_break_impulse2d(
         seconds = clock() - t0
 
     final = _positions(world, balls)  # (n, 2) or (n, B, 2)
-    identical = True
+    finite = bool(np.all(np.isfinite(final)))
+    identical, batch = True, None
     if n_worlds > 1:
         identical = bool(np.all(final == final[:, :1, :]))
-        final = final[:, 0, :]
+        batch, final = final, final[:, 0, :]
     return {
         "world_steps_per_s": n_worlds * done / seconds,
         "seconds": seconds,
         "steps": done,
         "step_us": step_us,
         "final_positions": final,
+        "final_batch": batch,
         "worlds_identical": identical,
-        "finite": bool(np.all(np.isfinite(final))),
+        "finite": finite,
     }
 
 
@@ -303,9 +352,12 @@ def pool_energy_pymunk(steps: int = 1200) -> tuple[float, int]:
     return gain, gain_step
 
 
-def _single_positions(steps: int, substeps: int, sleeping: bool) -> np.ndarray:
-    """Final ball positions of one world after ``steps`` steps (untimed)."""
-    scene = pool_break()
+def _single_positions(
+    steps: int, substeps: int, sleeping: bool, cue_y_offset: float = 0.0
+) -> np.ndarray:
+    """Final ball positions of one world after ``steps`` steps (untimed), built directly
+    from ``pool_break(cue_y_offset)``."""
+    scene = pool_break(cue_y_offset)
     world, balls, _ = _pool_world(scene, substeps, sleeping)
     for _ in range(steps):
         world.step(scene.dt)
@@ -378,6 +430,77 @@ def pyramid_impulse2d(
         "top_drift_m": float(drift[scene.top_index]),
         "max_drift_m": float(drift.max()),
         "finite": bool(np.all(np.isfinite(pos))),
+    }
+
+
+# -- rain ------------------------------------------------------------------------------------
+def _rain_world(scene: Rain) -> tuple[p2.World, list[int]]:
+    """The rain scene in impulse2d (ground: a plane at y = 0); returns the world and the
+    ``bodies`` indices of the falling bodies in scene order."""
+    world = p2.World(gravity=scene.gravity, sleeping=RAIN_SLEEPING)  # default substeps
+    world.add(
+        p2.Plane(
+            normal=(0.0, 1.0),
+            point=(0.0, 0.0),
+            friction=scene.friction,
+            restitution=scene.restitution,
+        )
+    )
+    r, (w, h) = scene.circle_radius, scene.box_size
+    common = {"mass": scene.mass, "friction": scene.friction, "restitution": scene.restitution}
+    bodies = [
+        world.add(
+            p2.Circle(position=(float(p[0]), float(p[1])), radius=r, **common)
+            if is_circle
+            else p2.Box(
+                position=(float(p[0]), float(p[1])), angle=float(a), width=w, height=h, **common
+            )
+        )
+        for p, a, is_circle in zip(scene.positions, scene.angles, scene.is_circle, strict=True)
+    ]
+    index = {id(body): i for i, body in enumerate(world.bodies)}
+    return world, [index[id(b)] for b in bodies]
+
+
+def rain_impulse2d(
+    count: int, steps: int = 120, settle_steps: int = 60, *, repeats: int = 1
+) -> dict:
+    """Time ``steps`` steps of the impulse2d rain scene after ``settle_steps`` untimed ones.
+
+    Mirrors :func:`pymunk_peer.rain_pymunk`. The untimed steps also warm up. With
+    ``repeats`` > 1 the state after the untimed steps is snapshotted and the timed window
+    is run ``repeats`` times from it (``World.restore``), reporting the median: building the
+    world is what costs at large counts, not stepping it.
+
+    Returns ``ms_per_step``, ``build_s`` (building the world, untimed), ``mean_y`` (mean
+    height of the bodies' centres at the end, m), ``finite`` and ``repeats_identical``
+    (every timed window ended in the same state).
+    """
+    scene = rain(count)
+    validate(scene)
+    t0 = time.perf_counter()
+    world, bodies = _rain_world(scene)
+    build_s = time.perf_counter() - t0
+    step, dt = world.step, scene.dt
+    for _ in range(settle_steps):
+        step(dt)
+    settled = world.snapshot() if repeats > 1 else None
+    timings, finals = [], []
+    for k in range(repeats):
+        if k:
+            world.restore(settled)
+        t0 = time.perf_counter()
+        for _ in _progress(range(steps), steps, f"impulse2d rain {count}"):
+            step(dt)
+        timings.append(time.perf_counter() - t0)
+        finals.append(_positions(world, bodies))
+    pos = finals[-1]
+    return {
+        "ms_per_step": 1000 * statistics.median(timings) / steps,
+        "build_s": build_s,
+        "mean_y": float(pos[:, 1].mean()),
+        "finite": bool(np.all(np.isfinite(pos))),
+        "repeats_identical": all(np.array_equal(f, finals[0]) for f in finals),
     }
 
 
@@ -513,10 +636,30 @@ def main(argv: list[str] | None = None) -> None:
         f"{drift_steps} steps ({drift_steps * dt_pyr:g} s); impulse2d substeps="
         f"{PYRAMID_SUBSTEPS}, sleeping={PYRAMID_SLEEPING}; pymunk 10 iterations"
     )
+    rain_counts = RAIN_COUNTS_QUICK if args.quick else RAIN_COUNTS
+    rain_repeats = 1 if args.quick else RAIN_REPEATS
+    rain_scene = rain(rain_counts[0])
+    print(
+        "pool break, varied shots: world i's cue ball starts at y = offset_i, offsets "
+        "uniform in [-10, 10] mm (scenes.pool_cue_offsets, seed 0); impulse2d sets them on "
+        "the replicated batch (bodies[cue].position = (n, 2) array), pymunk builds each Space "
+        "with its own offset"
+    )
+    print(
+        f"{rain_scene.describe()}; {', '.join(map(str, rain_counts))} bodies; impulse2d "
+        f"sleeping={RAIN_SLEEPING}, default substeps, ground a Plane; pymunk defaults "
+        "(10 iterations, no sleeping, collision_slop 0.1), ground a static box"
+    )
     print(
         "timing: perf_counter around the stepping only, after a warm-up step on a separate "
         f"world; single-world pool: median of {single_repeats} (impulse2d) / "
-        f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; pyramids: median of {PYRAMID_REPEATS}"
+        f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; pyramids: median of {PYRAMID_REPEATS}; rain: "
+        + (
+            f"median of {rain_repeats} (impulse2d: windows restored from a snapshot after the "
+            "untimed steps; pymunk: fresh spaces)"
+            if rain_repeats > 1
+            else "one run"
+        )
     )
 
     rows: list[tuple[str, ...]] = []
@@ -678,6 +821,75 @@ def main(argv: list[str] | None = None) -> None:
         )
     )
 
+    # -- pool break, varied shots (one shot per world) ---------------------------------------
+    offsets = pool_cue_offsets(n_worlds)
+    _stage(f"impulse2d pool break, varied shots, {n_worlds} worlds, sleeping=True")
+    var = pool_break_impulse2d(
+        n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=args.budget, cue_y_offsets=offsets
+    )
+    _stage(f"pymunk pool break, varied shots, {n_worlds} worlds, {var['steps']} steps")
+    pmV = pymunk_peer.pool_break_pymunk(n_worlds, var["steps"], offsets)
+    ws_i, ws_p = var["world_steps_per_s"], pmV["world_steps_per_s"]
+    same_shot = imp[(n_worlds, True)]
+    vs_same = (
+        f"; x{ws_i / same_shot['world_steps_per_s']:.2f} the identical-shot impulse2d rate"
+        if same_shot["steps"] == var["steps"]
+        else ""
+    )
+    steps_note = (
+        f"first {var['steps']} of {pool_steps} steps (budget {args.budget:g} s)"
+        if var["steps"] < pool_steps
+        else f"{var['steps']} steps"
+    )
+    rows.append(
+        (
+            "pool break, varied shots: world-steps/s",
+            str(n_worlds),
+            _fmt(ws_i),
+            _fmt(ws_p),
+            _ratio(ws_i, ws_p),
+            f"impulse2d sleeping on (its default), pymunk sleeping off as elsewhere; "
+            f"{steps_note}{vs_same}",
+        )
+    )
+    rows.append(
+        (
+            "pool break, varied shots: us/world-step",
+            str(n_worlds),
+            _fmt(1e6 / ws_i),
+            _fmt(1e6 / ws_p),
+            _ratio(1e6 / ws_i, 1e6 / ws_p),
+            "lower is better",
+        )
+    )
+    # World i of the batch (cue moved with the batch setter) against a single world built
+    # directly from pool_break(offsets[i]): the setter must give the same start.
+    batch_final = var["final_batch"]
+    checked = sorted({0, n_worlds - 1})
+    _stage(f"impulse2d single-world replays of varied shots {checked}")
+    diffs = [
+        float(
+            np.abs(
+                batch_final[:, i, :]
+                - _single_positions(var["steps"], POOL_SUBSTEPS, True, float(offsets[i]))
+            ).max()
+        )
+        for i in checked
+    ]
+    distinct = len({batch_final[:, i, :].tobytes() for i in range(n_worlds)})
+    rows.append(
+        (
+            "pool break, varied shots: world i == 1 world",
+            str(n_worlds),
+            str(all(d == 0.0 for d in diffs)),
+            "-",
+            "-",
+            f"bitwise, worlds {checked} against single worlds built at their offsets (max |diff| "
+            f"{max(diffs):.3g} m); {distinct} of {n_worlds} final states distinct; finite: "
+            f"{var['finite']}; pymunk world 0 momentum err {pmV['momentum_error']:.1e}",
+        )
+    )
+
     # -- pyramids ----------------------------------------------------------------------------
     for base in (10, 20):
         _stage(f"pyramid base {base}")
@@ -707,6 +919,37 @@ def main(argv: list[str] | None = None) -> None:
                 f"{ri['max_drift_m']:.4f} / {rp['max_drift_m']:.4f} m; finite: {ri['finite']}",
             )
         )
+
+    # -- rain: cost against scene size --------------------------------------------------------
+    previous: tuple[int, dict, dict] | None = None
+    for count in rain_counts:
+        _stage(f"rain {count} bodies (impulse2d builds, settles and steps, then pymunk)")
+        ri = rain_impulse2d(count, rain_scene.steps, rain_scene.settle_steps, repeats=rain_repeats)
+        pm_runs = [
+            pymunk_peer.rain_pymunk(count, rain_scene.steps, rain_scene.settle_steps)
+            for _ in range(rain_repeats)
+        ]
+        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[rain_repeats // 2]
+        growth = ""
+        if previous is not None:
+            n0, ri0, rp0 = previous
+            growth = (
+                f"x{ri['ms_per_step'] / ri0['ms_per_step']:.2f} for {count / n0:g}x the bodies "
+                f"(pymunk x{rp['ms_per_step'] / rp0['ms_per_step']:.2f}); "
+            )
+        rows.append(
+            (
+                f"rain {count} bodies: ms/step",
+                "1",
+                _fmt(ri["ms_per_step"]),
+                _fmt(rp["ms_per_step"]),
+                _ratio(ri["ms_per_step"], rp["ms_per_step"]),
+                f"{growth}mean height {ri['mean_y']:.3f} / {rp['mean_y']:.3f} m; finite: "
+                f"{ri['finite'] and rp['finite']}; repeats identical: "
+                f"{ri['repeats_identical']}; impulse2d build {ri['build_s']:.1f} s (untimed)",
+            )
+        )
+        previous = (count, ri, rp)
 
     print()
     if batch_steps < pool_steps:

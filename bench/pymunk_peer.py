@@ -27,9 +27,18 @@ import numpy as np
 import pymunk
 
 try:  # imported as part of the repo (``bench.pymunk_peer``) ...
-    from bench.scenes import PoolBreak, Pyramid, StaticBox, pool_break, pyramid, validate
+    from bench.scenes import (
+        PoolBreak,
+        Pyramid,
+        Rain,
+        StaticBox,
+        pool_break,
+        pyramid,
+        rain,
+        validate,
+    )
 except ImportError:  # ... or run as a script, with bench/ on sys.path
-    from scenes import PoolBreak, Pyramid, StaticBox, pool_break, pyramid, validate
+    from scenes import PoolBreak, Pyramid, Rain, StaticBox, pool_break, pyramid, rain, validate
 
 BALL, CUSHION = 1, 2  # collision types, only used by the untimed momentum diagnostic
 
@@ -120,17 +129,31 @@ def _warm_up() -> None:
         space.step(1 / 60)
 
 
-def pool_break_pymunk(n_worlds: int = 1, steps: int = 1200) -> dict:
+def pool_break_pymunk(
+    n_worlds: int = 1, steps: int = 1200, cue_y_offsets: np.ndarray | None = None
+) -> dict:
     """Time ``n_worlds`` independent pymunk pool-break worlds for ``steps`` steps each.
+
+    With ``cue_y_offsets`` (``n_worlds`` values, m; see :func:`scenes.pool_cue_offsets`)
+    space ``i`` starts its cue ball at ``y = cue_y_offsets[i]``, i.e. it is
+    ``pool_break(cue_y_offsets[i])``: every world plays its own shot.
 
     Returns ``world_steps_per_s`` (n_worlds * steps / seconds), ``seconds`` (wall time of
     the stepping only, building excluded), ``final_positions`` of world 0 (n_balls, 2) and
-    ``momentum_error`` (see :func:`_pool_momentum_check`, measured on an untimed replay)
-    plus ``momentum_window_s``, the time span that check covers.
+    ``momentum_error`` (see :func:`_pool_momentum_check`, measured on an untimed replay of
+    world 0) plus ``momentum_window_s``, the time span that check covers.
     """
-    scene = pool_break()
-    validate(scene)
-    worlds = [_pool_space(scene) for _ in range(n_worlds)]
+    if cue_y_offsets is None:
+        scenes = [pool_break()] * n_worlds
+    else:
+        offsets = np.asarray(cue_y_offsets, dtype=np.float64)
+        if offsets.shape != (n_worlds,):
+            raise ValueError(f"cue_y_offsets must have shape ({n_worlds},), got {offsets.shape}")
+        scenes = [pool_break(float(y)) for y in offsets]
+    scene = scenes[0]
+    for each in scenes[:1] if cue_y_offsets is None else scenes:
+        validate(each)
+    worlds = [_pool_space(each) for each in scenes]
     spaces = [space for space, _ in worlds]
     dt = scene.dt
     _warm_up()
@@ -145,7 +168,7 @@ def pool_break_pymunk(n_worlds: int = 1, steps: int = 1200) -> dict:
     seconds = time.perf_counter() - t0
 
     final = _positions(worlds[0][1])
-    error, window, replay = _pool_momentum_check(scene, steps)
+    error, window, replay = _pool_momentum_check(scene, steps)  # world 0's own scene
     if not np.array_equal(replay, final):
         raise RuntimeError("pymunk replay of world 0 diverged from the timed run")
     return {
@@ -209,6 +232,62 @@ def pyramid_pymunk(
         "ms_per_step": 1000 * seconds / steps,
         "top_drift_m": float(drift[scene.top_index]),
         "max_drift_m": float(drift.max()),
+    }
+
+
+def _rain_space(scene: Rain) -> tuple[pymunk.Space, list[pymunk.Body]]:
+    """Build the rain scene in pymunk; returns the space and its bodies in scene order.
+
+    The ground is the scene's finite stand-in box (a static ``Poly``, top face at y = 0,
+    50 m wider than the drop zone on each side) with the scene's friction split as
+    sqrt(mu) on each side (Chipmunk multiplies them), as for the pyramid.
+    """
+    space = pymunk.Space()  # iterations=10, default slop/bias, sleeping off
+    space.gravity = scene.gravity
+    mu = math.sqrt(scene.friction)
+    e = math.sqrt(scene.restitution)
+
+    ground = pymunk.Poly(space.static_body, _box_vertices(scene.ground))
+    ground.friction, ground.elasticity = mu, e
+    space.add(ground)
+
+    r, size = scene.circle_radius, scene.box_size
+    circle_moment = pymunk.moment_for_circle(scene.mass, 0.0, r)
+    box_moment = pymunk.moment_for_box(scene.mass, size)
+    bodies = []
+    for p, angle, is_circle in zip(scene.positions, scene.angles, scene.is_circle, strict=True):
+        body = pymunk.Body(scene.mass, circle_moment if is_circle else box_moment)
+        body.position = (float(p[0]), float(p[1]))
+        body.angle = float(angle)
+        shape = pymunk.Circle(body, r) if is_circle else pymunk.Poly.create_box(body, size)
+        shape.friction, shape.elasticity = mu, e
+        space.add(body, shape)
+        bodies.append(body)
+    return space, bodies
+
+
+def rain_pymunk(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
+    """Time ``steps`` steps of the pymunk rain scene after ``settle_steps`` untimed ones.
+
+    Returns ``ms_per_step``, ``mean_y`` (mean height of the bodies' centres at the end, m)
+    and ``finite``.
+    """
+    scene = rain(count)
+    validate(scene)
+    space, bodies = _rain_space(scene)
+    _warm_up()
+    step, dt = space.step, scene.dt
+    for _ in range(settle_steps):
+        step(dt)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        step(dt)
+    seconds = time.perf_counter() - t0
+    pos = _positions(bodies)
+    return {
+        "ms_per_step": 1000 * seconds / steps,
+        "mean_y": float(pos[:, 1].mean()),
+        "finite": bool(np.all(np.isfinite(pos))),
     }
 
 

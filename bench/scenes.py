@@ -2,12 +2,16 @@
 
 Every scene is plain data in SI units (metres, kilograms, seconds); this module
 imports no physics engine, so each engine's adapter builds its own world from the
-same numbers. Two scenes are defined:
+same numbers. Three scenes are defined:
 
 * :func:`pool_break` - the 16-ball break on a 2.54 x 1.27 m table (contact-heavy
   burst, then many light contacts; used for the many-worlds throughput figure).
+  :func:`pool_cue_offsets` gives every world of a batch its own shot (the cue ball
+  moved sideways by up to 1 cm), as in reinforcement learning.
 * :func:`pyramid` - the Box2D-style box pyramid on a static ground (stacking
   stability and per-step cost of a large contact graph).
+* :func:`rain` - ``count`` circles and boxes dropped at random onto the ground over a
+  strip whose width grows with ``count`` (per-step cost against scene size).
 
 Coordinates: y points up. Static bodies are given as axis-aligned boxes by
 centre and half extents. :func:`validate` checks a scene's initial state.
@@ -111,8 +115,12 @@ class Pyramid:
         )
 
 
-def pool_break() -> PoolBreak:
-    """Build the benchmark pool break (see the module docstring and inline notes)."""
+def pool_break(cue_y_offset: float = 0.0) -> PoolBreak:
+    """Build the benchmark pool break (see the module docstring and inline notes).
+
+    ``cue_y_offset`` (m) moves the cue ball sideways from the head spot (it still travels
+    along +x), so the hit on the apex ball is off centre; see :func:`pool_cue_offsets`.
+    """
     length, width = 2.54, 1.27
     half_l, half_w = length / 2, width / 2
     thick = 0.1
@@ -130,9 +138,9 @@ def pool_break() -> PoolBreak:
     pitch = 2 * r + gap  # centre distance of neighbouring racked balls
     row_dx = pitch * math.sqrt(3) / 2  # row spacing of a close-packed triangle
     foot_spot, head_spot = (length / 4, 0.0), (-length / 4, 0.0)
-    # A perfectly central hit (y offset 0.0) keeps the break deterministic and mirror
-    # symmetric; engines may still break the symmetry through their contact ordering.
-    cue_y_offset = 0.0
+    # The default, a perfectly central hit (y offset 0.0), keeps the break deterministic and
+    # mirror symmetric; engines may still break the symmetry through their contact ordering.
+    cue_y_offset = float(cue_y_offset)
 
     positions = [(head_spot[0], head_spot[1] + cue_y_offset)]
     for row in range(5):  # apex on the foot spot, rows widening away from the cue ball
@@ -164,6 +172,19 @@ def pool_break() -> PoolBreak:
     )
 
 
+def pool_cue_offsets(n_worlds: int, seed: int = 0) -> np.ndarray:
+    """Cue-ball y offsets (m) for a batch of ``n_worlds`` pool breaks, one shot per world.
+
+    World ``i`` starts its cue ball at ``y = offsets[i]`` instead of on the table's long
+    axis (x and the 8 m/s velocity along +x unchanged): ``offsets`` is
+    ``np.random.default_rng(seed).uniform(-0.01, 0.01, n_worlds)``, up to 1 cm either side,
+    about a third of a ball radius, so every world hits the apex ball at its own angle and
+    the racks scatter differently - the realistic reinforcement-learning case, where no two
+    worlds of a batch play the same shot. World ``i`` is ``pool_break(offsets[i])``.
+    """
+    return np.random.default_rng(seed).uniform(-0.01, 0.01, n_worlds)
+
+
 def pyramid(base: int) -> Pyramid:
     """Box2D's pyramid benchmark with ``base`` boxes in the bottom row."""
     if base < 1:
@@ -190,8 +211,104 @@ def pyramid(base: int) -> Pyramid:
     )
 
 
-def validate(scene: PoolBreak | Pyramid) -> None:
-    """Raise ValueError if the scene's bodies overlap or lie outside their bounds at t = 0."""
+@dataclass(frozen=True, eq=False)
+class Rain:
+    """Rain: ``count`` circles and boxes released at random over a wide static ground.
+
+    Bodies alternate circle (even index), box (odd index). The ground is the half-plane
+    y <= 0 (a plane in engines that have one); ``ground`` is a finite stand-in for it,
+    wider than the drop zone by ``ground_margin`` on each side, for engines that need one.
+    """
+
+    count: int
+    seed: int
+    width: float  # W: bodies start at x in [-W/2, W/2]
+    drop_heights: Vec2  # (lowest, highest) starting y of the centres
+    circle_radius: float
+    box_size: Vec2  # (width, height)
+    mass: float  # every body
+    friction: float  # every contact pair, ground included
+    restitution: float
+    is_circle: np.ndarray  # (count,) bool
+    positions: np.ndarray  # (count, 2)
+    angles: np.ndarray  # (count,); 0 for circles
+    ground: StaticBox  # top face at y = 0
+    ground_margin: float
+    gravity: Vec2
+    dt: float
+    settle_steps: int  # untimed steps first: bodies are landing and piling, not in free fall
+    steps: int  # then timed
+
+    @property
+    def n_circles(self) -> int:
+        return int(np.count_nonzero(self.is_circle))
+
+    def describe(self) -> str:
+        """One-line summary for benchmark tables (``count`` left out: it varies)."""
+        bw, bh = self.box_size
+        lo, hi = self.drop_heights
+        return (
+            f"rain: circles r={self.circle_radius} m and boxes {bw} x {bh} m alternating, "
+            f"{self.mass} kg, mu={self.friction}, e={self.restitution}, dropped from rest over a "
+            f"strip {self.width / self.count:g} m wide per body, y in [{lo:g}, {hi:g}] m, onto "
+            f"the ground y = 0; dt=1/{1 / self.dt:.0f}, {self.steps} timed steps after "
+            f"{self.settle_steps} untimed"
+        )
+
+
+RAIN_WIDTH_PER_BODY = 0.6  # m of drop-zone width per body: the same density at every count
+
+
+def rain(count: int, seed: int = 0) -> Rain:
+    """``count`` bodies dropped at random onto the ground; the cost-against-size scene.
+
+    The drop zone is ``W = 0.6 * count`` m wide and 5.5 m tall, so the density, the pile
+    height and the contacts per body do not depend on ``count``; only their number does,
+    and a step should cost about ``count`` times a constant (not ``count ** 2``).
+    Positions and box angles come from ``np.random.default_rng(seed)``: x uniform in
+    [-W/2, W/2], y in [0.5, 6.0] m, box angles in [0, 3) rad; everything starts at rest.
+    Bodies may overlap at t = 0 (every engine starts from the same overlaps); none reaches
+    into the ground.
+    """
+    if count < 1:
+        raise ValueError(f"count must be >= 1, got {count}")
+    width = RAIN_WIDTH_PER_BODY * count
+    lo, hi = 0.5, 6.0
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-width / 2, width / 2, count)
+    y = rng.uniform(lo, hi, count)
+    angles = rng.uniform(0.0, 3.0, count)
+    is_circle = np.arange(count) % 2 == 0
+    angles[is_circle] = 0.0
+    margin = 50.0
+    is_circle.setflags(write=False)
+    return Rain(
+        count=count,
+        seed=seed,
+        width=width,
+        drop_heights=(lo, hi),
+        circle_radius=0.2,
+        box_size=(0.4, 0.3),
+        mass=1.0,
+        friction=0.6,
+        restitution=0.0,
+        is_circle=is_circle,
+        positions=_frozen(np.column_stack([x, y])),
+        angles=_frozen(angles),
+        ground=StaticBox((0.0, -0.5), (width / 2 + margin, 0.5)),  # top face at y = 0
+        ground_margin=margin,
+        gravity=(0.0, -9.81),
+        dt=1 / 60,
+        settle_steps=60,
+        steps=120,
+    )
+
+
+def validate(scene: PoolBreak | Pyramid | Rain) -> None:
+    """Raise ValueError if the scene's bodies overlap or lie outside their bounds at t = 0.
+
+    For :class:`Rain` only the ground is checked: its bodies may overlap each other.
+    """
     if isinstance(scene, PoolBreak):
         p, r = scene.positions, scene.ball_radius
         half = np.array(scene.play_area) / 2
@@ -213,5 +330,13 @@ def validate(scene: PoolBreak | Pyramid) -> None:
         np.fill_diagonal(hit, False)
         if hit.any():
             raise ValueError("overlapping boxes in the pyramid")
+    elif isinstance(scene, Rain):
+        hw, hh = scene.box_size[0] / 2, scene.box_size[1] / 2
+        c, s = np.abs(np.cos(scene.angles)), np.abs(np.sin(scene.angles))
+        reach = np.where(scene.is_circle, scene.circle_radius, hw * s + hh * c)  # below centre
+        if np.any(scene.positions[:, 1] - reach <= 0.0):
+            raise ValueError("a rain body starts in the ground")
+        if np.any(np.abs(scene.positions[:, 0]) > scene.width / 2):
+            raise ValueError("a rain body starts outside the drop zone")
     else:
         raise TypeError(f"unknown scene type {type(scene).__name__}")
