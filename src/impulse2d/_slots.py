@@ -100,7 +100,7 @@ class SlotStore:
         b["force"][:, :, slot] = 0.0
         self._body_objects[slot] = obj
         obj._world, obj._slot, obj._values = self, slot, {}
-        self._structure_changed()
+        self._structure_changed(slot)
         self._rebuild_mass(slot)
         self._forget_slot(slot)
         return obj
@@ -133,7 +133,7 @@ class SlotStore:
         self._body_objects[slot] = None
         self._forget_slot(slot)
         obj._world, obj._slot, obj._values = None, -1, values
-        self._structure_changed()
+        self._structure_changed(slot)
 
     def body_slot(self, body: _Slot) -> int:
         if body._world is not self:
@@ -141,19 +141,29 @@ class SlotStore:
         return body._slot
 
     # -- structure -----------------------------------------------------------------------------
-    def _structure_changed(self) -> None:
-        """Recompute everything derived from the slots' kinds and motion types."""
+    def _structure_changed(self, slot: int | None = None) -> None:
+        """Recompute everything derived from the slots' kinds and motion types, after a
+        change to one slot (``slot``) or to the layout (grown, replicated, new)."""
         kind, motion = self._kind, self._motion
         solid = (kind == CIRCLE) | (kind == BOX)
         plane = kind == PLANE
         dynamic = (motion == DYNAMIC) & solid
         # Two slots may collide if at least one is dynamic, neither is free, and they are
-        # not both planes; a slot never collides with itself.
+        # not both planes; a slot never collides with itself. The matrix is slots x slots,
+        # so one add updates its row and column only: building n bodies stays O(n^2).
         used = solid | plane
-        allowed = (used[:, None] & used[None, :]) & (dynamic[:, None] | dynamic[None, :])
-        allowed &= ~(plane[:, None] & plane[None, :])
-        np.fill_diagonal(allowed, False)
-        self._allowed = allowed
+        if getattr(self, "_allowed", None) is None or self._allowed.shape[0] != kind.size:
+            slot = None  # a new or grown layout: the whole matrix
+        rows = np.arange(kind.size) if slot is None else np.array([slot])
+        block = (used[rows, None] & used[None, :]) & (dynamic[rows, None] | dynamic[None, :])
+        block &= ~(plane[rows, None] & plane[None, :])
+        block[np.arange(rows.size), rows] = False
+        if slot is None:
+            self._allowed = block
+        else:
+            self._allowed[slot, :] = block[0]
+            self._allowed[:, slot] = block[0]
+        allowed = self._allowed
         self._plane_keys = plane_pairs(kind, allowed, self._batch)
         self._plane_a, self._plane_b = decode_keys(self._plane_keys, self._batch, kind.size)
         batch = self._batch
