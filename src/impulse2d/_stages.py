@@ -286,9 +286,14 @@ class StepStages:
             shapes.normal_x, shapes.normal_y = flat["normal_x"][index], flat["normal_y"][index]
         return shapes
 
-    def _wake_touched(self, first: np.ndarray, second: np.ndarray) -> bool:
-        """Something awake touching a sleeping body wakes the sleeper's whole island.
-        Returns whether anything woke."""
+    def _wake_touched(self, first: np.ndarray, second: np.ndarray, springs: tuple | None) -> bool:
+        """Something awake touching a sleeping body (by a contact point or a spring) wakes
+        the sleeper's whole island. Returns whether anything woke."""
+        if springs is not None:
+            first, second = (
+                np.concatenate([first, springs[0]]),
+                np.concatenate([second, springs[1]]),
+            )
         if first.size == 0:
             return False
         awake, dynamic = self._views["awake"], self._dynamic_flat

@@ -165,13 +165,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
         speed = self._speed_bound(terms)
         keys, body_a, body_b = self._candidate_pairs(terms, speed, dt)
         points = self._narrowphase(keys, body_a, body_b, speed, dt)
-        first, second = body_a[points.pair], body_b[points.pair]
-        if springs is not None:
-            first, second = (
-                np.concatenate([first, springs[0]]),
-                np.concatenate([second, springs[1]]),
-            )
-        if self._wake_touched(first, second):
+        if self._wake_touched(body_a[points.pair], body_b[points.pair], springs):
             terms = self._step_terms(h)
         accel_h = self._accelerations(terms, h)
         if springs is not None:
