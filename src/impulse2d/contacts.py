@@ -258,7 +258,8 @@ class Contacts:
     impulse_scale: np.ndarray
     normal_impulse: np.ndarray
     tangent_impulse: np.ndarray
-    max_normal_impulse: np.ndarray
+    max_normal_impulse: np.ndarray  # largest solver increment this step (did it push?)
+    impact_velocity: np.ndarray  # normal velocity when the point first pushed (0: not yet)
     anchor_ax: np.ndarray
     anchor_ay: np.ndarray
     bounds: np.ndarray
@@ -388,6 +389,7 @@ def build(
         normal_impulse=normal_impulse,
         tangent_impulse=tangent_impulse,
         max_normal_impulse=np.zeros(key.size),
+        impact_velocity=np.zeros(key.size),
         anchor_ax=rax,
         anchor_ay=ray,
         bounds=bounds,

@@ -36,7 +36,7 @@ import numpy as np
 from .contacts import Contacts
 from .narrowphase import FEATURES
 
-_RESTITUTION_SWEEPS = 8  # for impacts with two points on one pair (see restitution)
+_SHARED_SWEEPS = 8  # restitution sweeps for pairs that strike at two points (see restitution)
 
 
 @dataclass
@@ -134,6 +134,12 @@ def solve(
         bias = np.where(speculative, s * inv_h, 0.0)
         mass_scale = impulse_scale = None
     flat = velocity.reshape(-1)
+    # The normal velocity of every point before this sweep, kept for restitution as the
+    # velocity at which a point first pushes (taken before the sweep, so the order in which
+    # a box's two corners are solved does not change it).
+    before = None
+    if contacts.restitution.any():
+        before = (contacts.jac_n * flat[contacts.index6]).sum(axis=0)
     for block in colour_blocks:
         lo, hi = block.lo, block.hi
         v = flat[block.index].reshape(-1, hi - lo)
@@ -149,6 +155,11 @@ def solve(
             )
         total = np.maximum(accumulated + impulse, 0.0)
         impulse = total - accumulated
+        if before is not None:
+            first = (impulse > 0.0) & (contacts.impact_velocity[lo:hi] == 0.0)
+            contacts.impact_velocity[lo:hi] = np.where(
+                first, before[lo:hi], contacts.impact_velocity[lo:hi]
+            )
         contacts.normal_impulse[lo:hi] = total
         np.maximum(
             contacts.max_normal_impulse[lo:hi], impulse, out=contacts.max_normal_impulse[lo:hi]
@@ -174,7 +185,8 @@ def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: f
     pushed during it, take part, so resting contacts stay at rest and a ball at rest in
     a rack that is hit does not "bounce" off its neighbours (which would create energy).
 
-    Two corrections to Box2D's ``v_n' = -e v_n`` make bounces under gravity keep energy:
+    A pair that strikes at one point gets Newton's law, ``v_n' = -e v_n``, with two
+    corrections to Box2D's form that make bounces under gravity keep energy:
 
     * The impact speed is the approach speed at the step start, ``u``, carried over the
       remaining gap ``s`` under the constant closing acceleration ``c = -a_n`` (gravity
@@ -185,6 +197,15 @@ def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: f
       the position is ``v + h a / 2``. So ``u = -(v_n + h a_n / 2)`` and the stored
       outgoing velocity is ``e u_impact - h a_n / 2``. Without it a bounce loses
       ``m g h v`` (1 % per bounce at 60 Hz with 4 substeps).
+
+    A pair that strikes at two points (a box landing on a face, a spinning box whose
+    corners arrive one after the other) is different: its points' speeds at the start of
+    the step are not their speeds at impact (a spinning corner turns within the step), and
+    Newton's law on them can give the pair a quarter more kinetic energy than it had. Its
+    points use the normal velocity they had when they first pushed, in the substep they
+    touched, and a few Gauss-Seidel sweeps share the bounce between them as a simultaneous
+    impact would (solved one after the other, the first point would take it all and set a
+    flat-landing box spinning).
     """
     eligible = (
         (contacts.relative_velocity < -threshold)
@@ -201,35 +222,37 @@ def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: f
         np.maximum(approach * approach - 2.0 * contacts.relative_acceleration * gap, 0.0)
     )
     outgoing = contacts.restitution * impact - half_kick
-    # A face hitting a face has two points on one pair of bodies. Solved one after the
-    # other, the first takes the whole bounce and sets the pair spinning; more Gauss-
-    # Seidel sweeps over such points share it out as a simultaneous impact would. (Which
-    # points are swept again depends only on their own world, so a world in a batch still
-    # steps exactly as it would alone.)
-    rows_all = np.flatnonzero(eligible)
-    pair = contacts.key[rows_all] // FEATURES
-    _, inverse, counts = np.unique(pair, return_inverse=True, return_counts=True)
+    # Which eligible points share their pair with another. (This depends only on each
+    # point's own world, so a batch still steps exactly like single worlds.)
+    rows = np.flatnonzero(eligible)
+    _, inverse, counts = np.unique(
+        contacts.key[rows] // FEATURES, return_inverse=True, return_counts=True
+    )
     shared = np.zeros(eligible.size, dtype=bool)
-    shared[rows_all[counts[inverse] > 1]] = True
-    for sweep in range(_RESTITUTION_SWEEPS if shared.any() else 1):
-        _restitution_sweep(contacts, flat, eligible if sweep == 0 else shared, outgoing)
+    shared[rows[counts[inverse] > 1]] = True
+    targets = np.where(
+        shared, contacts.restitution * np.minimum(contacts.impact_velocity, 0.0), -outgoing
+    )
+    for sweep in range(_SHARED_SWEEPS if shared.any() else 1):
+        _restitution_sweep(contacts, flat, eligible if sweep == 0 else shared, targets)
 
 
 def _restitution_sweep(
-    contacts: Contacts, flat: np.ndarray, chosen: np.ndarray, outgoing: np.ndarray
+    contacts: Contacts, flat: np.ndarray, chosen_mask: np.ndarray, targets: np.ndarray
 ) -> None:
+    """One Gauss-Seidel sweep driving each chosen point's normal velocity to ``-target``
+    (the normal impulse stays >= 0)."""
     bounds = contacts.bounds
     for k in range(bounds.size - 1):
-        rows = np.flatnonzero(chosen[bounds[k] : bounds[k + 1]]) + bounds[k]
-        if rows.size == 0:
+        chosen = np.flatnonzero(chosen_mask[bounds[k] : bounds[k + 1]]) + bounds[k]
+        if chosen.size == 0:
             continue
-        index = contacts.index6[:, rows].ravel()
-        v = flat[index].reshape(6, rows.size)
-        vn = (contacts.jac_n[:, rows] * v).sum(axis=0)
-        accumulated = contacts.normal_impulse[rows]
-        total = np.maximum(accumulated - contacts.normal_mass[rows] * (vn - outgoing[rows]), 0.0)
+        index = contacts.index6[:, chosen].ravel()
+        v = flat[index].reshape(6, chosen.size)
+        vn = (contacts.jac_n[:, chosen] * v).sum(axis=0)
+        accumulated = contacts.normal_impulse[chosen]
+        total = np.maximum(accumulated - contacts.normal_mass[chosen] * (vn + targets[chosen]), 0.0)
         impulse = total - accumulated
-        contacts.normal_impulse[rows] = total
-        contacts.max_normal_impulse[rows] = np.maximum(contacts.max_normal_impulse[rows], impulse)
-        v += impulse * contacts.inv_n[:, rows]
+        contacts.normal_impulse[chosen] = total
+        v += impulse * contacts.inv_n[:, chosen]
         flat[index] = v.ravel()

@@ -46,8 +46,9 @@ class World(SlotStore, SnapshotMixin, StepStages):
       contacts from jittering). Box2D uses 1 m/s for metre-sized bodies.
     * ``contact_hertz``, ``contact_damping_ratio``: stiffness of the soft position
       correction of overlaps (capped at a quarter of the substep rate; twice as stiff
-      against immovable bodies). ``contact_push_speed`` (m/s) caps how fast overlapping
-      bodies are pushed apart, so a heavily overlapping start does not explode.
+      against immovable bodies). ``contact_push_speed`` (m/s) caps how fast each
+      contact pushes overlapping bodies apart, so a heavily overlapping start does not
+      explode (a body pushed by several contacts at once can move faster).
     * ``speculative_distance`` (m): contacts are made this much before shapes touch, on
       top of how far the pair can close in the step (at most a quarter of a body's size,
       so small bodies get proportionally smaller distances).
