@@ -260,6 +260,7 @@ class Contacts:
     tangent_impulse: np.ndarray
     max_normal_impulse: np.ndarray  # largest solver increment this step (did it push?)
     impact_velocity: np.ndarray  # normal velocity when the point first pushed (0: not yet)
+    watched: np.ndarray | None  # shared points that may bounce: whose impact_velocity to keep
     anchor_ax: np.ndarray
     anchor_ay: np.ndarray
     bounds: np.ndarray
@@ -319,7 +320,16 @@ def build(
     movable = bodies["movable"]
     normal_impulse, tangent_impulse, previous = carried
     colours = colour(body_a, body_b, ~movable[body_a], ~movable[body_b], local_key, total, previous)
+    # Points that share their pair with another point (a face against a face): restitution
+    # treats them differently (see solver.restitution). The points come sorted by key, so
+    # a pair's points are neighbours.
+    pair = point_key // FEATURES
+    twin = pair[1:] == pair[:-1]
+    shared = np.zeros(pair.size, dtype=bool)
+    shared[1:] |= twin
+    shared[:-1] |= twin
     fields = [
+        shared,
         normal_impulse,
         tangent_impulse,
         colours,
@@ -341,8 +351,9 @@ def build(
         order = np.argsort(colours, kind="stable")
         fields = [array[order] for array in fields]
         bounds = np.concatenate([[0], np.cumsum(np.bincount(colours))])
-    normal_impulse, tangent_impulse, colours, key, a, b, nx, ny, rax, ray, rbx, rby = fields[:12]
-    separation = fields[12]
+    shared = fields[0]
+    normal_impulse, tangent_impulse, colours, key, a, b, nx, ny, rax, ray, rbx, rby = fields[1:13]
+    separation = fields[13]
     tx, ty = ny, -nx
     ima, imb = bodies["inv_mass"][a], bodies["inv_mass"][b]
     iia, iib = bodies["inv_moment"][a], bodies["inv_moment"][b]
@@ -362,6 +373,7 @@ def build(
         relative_acceleration = (jac_n * bodies["accel_h"].reshape(-1)[index6]).sum(axis=0) / h
     # Separation as the solver tracks it: base + J . pose, with base fixed for the step.
     base = separation - (jac_n * bodies["pose"].reshape(-1)[index6]).sum(axis=0)
+    restitution = mix(rules[0], bodies["restitution"][a], bodies["restitution"][b])
     both = movable[a] & movable[b]
     soft = [np.where(both, softness[0][i], softness[1][i]) for i in range(3)]
     return Contacts(
@@ -381,7 +393,7 @@ def build(
         base_separation=base,
         relative_velocity=relative_velocity,
         relative_acceleration=relative_acceleration,
-        restitution=mix(rules[0], bodies["restitution"][a], bodies["restitution"][b]),
+        restitution=restitution,
         friction=mix(rules[1], bodies["friction"][a], bodies["friction"][b]),
         bias_rate=soft[0],
         mass_scale=soft[1],
@@ -390,12 +402,21 @@ def build(
         tangent_impulse=tangent_impulse,
         max_normal_impulse=np.zeros(key.size),
         impact_velocity=np.zeros(key.size),
+        watched=_watched(shared, relative_velocity, restitution),
         anchor_ax=rax,
         anchor_ay=ray,
         bounds=bounds,
         colour=colours,
         order=order,
     )
+
+
+def _watched(
+    shared: np.ndarray, relative_velocity: np.ndarray, restitution: np.ndarray
+) -> np.ndarray | None:
+    """Indices of the points whose velocity at first touch restitution will need."""
+    watched = np.flatnonzero(shared & (relative_velocity < 0.0) & (restitution > 0.0))
+    return watched if watched.size else None
 
 
 def _inverse(k: np.ndarray) -> np.ndarray:

@@ -137,9 +137,13 @@ def solve(
     # The normal velocity of every point before this sweep, kept for restitution as the
     # velocity at which a point first pushes (taken before the sweep, so the order in which
     # a box's two corners are solved does not change it).
-    before = None
-    if contacts.restitution.any():
-        before = (contacts.jac_n * flat[contacts.index6]).sum(axis=0)
+    watched = contacts.watched
+    if watched is not None:
+        before = np.zeros(contacts.size)
+        before[watched] = (contacts.jac_n[:, watched] * flat[contacts.index6[:, watched]]).sum(
+            axis=0
+        )
+        fresh = (contacts.impact_velocity == 0.0)[watched]
     for block in colour_blocks:
         lo, hi = block.lo, block.hi
         v = flat[block.index].reshape(-1, hi - lo)
@@ -155,11 +159,6 @@ def solve(
             )
         total = np.maximum(accumulated + impulse, 0.0)
         impulse = total - accumulated
-        if before is not None:
-            first = (impulse > 0.0) & (contacts.impact_velocity[lo:hi] == 0.0)
-            contacts.impact_velocity[lo:hi] = np.where(
-                first, before[lo:hi], contacts.impact_velocity[lo:hi]
-            )
         contacts.normal_impulse[lo:hi] = total
         np.maximum(
             contacts.max_normal_impulse[lo:hi], impulse, out=contacts.max_normal_impulse[lo:hi]
@@ -176,6 +175,10 @@ def solve(
             v += (friction - accumulated) * block.inv_t
             contacts.tangent_impulse[lo:hi] = friction
         flat[block.write_index] = v[block.write].ravel()
+    if watched is not None:
+        # Points that pushed for the first time in this sweep keep their velocity before it.
+        touched = fresh & (contacts.max_normal_impulse[watched] > 0.0)
+        contacts.impact_velocity[watched[touched]] = before[watched[touched]]
 
 
 def restitution(contacts: Contacts, velocity: np.ndarray, threshold: float, h: float) -> None:
