@@ -190,3 +190,15 @@ def test_energy_plot_is_written(tmp_path, capsys):
     plot = tmp_path / "swing_energy.png"
     assert out.exists() and plot.exists() and plot.stat().st_size > 0
     assert str(plot) in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", list(demo.SCENES))
+def test_every_scene_renders_to_a_file(name, tmp_path):
+    """Every registered scene renders headless to a small GIF that shows something."""
+    iio = pytest.importorskip("imageio.v3")
+    out = tmp_path / f"{name}.gif"
+    argv = [name, "--seconds", "0.1", "--width", "48", "--height", "27", "--fps", "20"]
+    assert main([*argv, "--out", str(out)]) == 0
+    frames = iio.imread(out, index=None)
+    assert frames.shape[1:3] == (27, 48)
+    assert frames[0].std() > 0  # not a blank frame
