@@ -86,6 +86,8 @@ RAIN_SLEEPING = False  # the piles would fall asleep; time the awake cost, as py
 DEFAULT_WORLDS = 1024
 BATCH_BUDGET_S = 90.0  # a batch run stops early (timing a prefix of the break) past this
 SINGLE_REPEATS = 5  # single-world impulse2d runs; the median is reported
+BATCH_REPEATS = 3  # batch runs of each engine, alternating; the median is reported (this
+# machine is shared and a single run of either engine can be 30 % off)
 PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
 PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
 RAIN_REPEATS = 3  # timed window of the rain scenes, both engines (1 with --quick)
@@ -174,6 +176,12 @@ def _positions(world: p2.World, indices: list[int]) -> np.ndarray:
 def _velocities(world: p2.World, indices: list[int]) -> np.ndarray:
     bodies = world.bodies
     return np.array([bodies[i].velocity for i in indices], dtype=np.float64)
+
+
+def _median_run(run: Any, repeats: int) -> dict:
+    """Run a benchmark ``repeats`` times and keep the run of median speed."""
+    runs = sorted((run() for _ in range(repeats)), key=lambda r: r["world_steps_per_s"])
+    return runs[len(runs) // 2]
 
 
 def pool_break_impulse2d(
@@ -653,7 +661,9 @@ def main(argv: list[str] | None = None) -> None:
     print(
         "timing: perf_counter around the stepping only, after a warm-up step on a separate "
         f"world; single-world pool: median of {single_repeats} (impulse2d) / "
-        f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; pyramids: median of {PYRAMID_REPEATS}; rain: "
+        f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; batch pool: median of "
+        f"{1 if args.quick else BATCH_REPEATS} runs of each; pyramids: median of "
+        f"{PYRAMID_REPEATS}; rain: "
         + (
             f"median of {rain_repeats} (impulse2d: windows restored from a snapshot after the "
             "untimed steps; pymunk: fresh spaces)"
@@ -685,12 +695,18 @@ def main(argv: list[str] | None = None) -> None:
     # -- pool break, batch -------------------------------------------------------------------
     for sleeping in (True, False):
         _stage(f"impulse2d pool break, {n_worlds} worlds, sleeping={sleeping}")
-        imp[(n_worlds, sleeping)] = pool_break_impulse2d(
-            n_worlds, pool_steps, POOL_SUBSTEPS, sleeping, budget_s=args.budget
+        imp[(n_worlds, sleeping)] = _median_run(
+            lambda sleeping=sleeping: pool_break_impulse2d(
+                n_worlds, pool_steps, POOL_SUBSTEPS, sleeping, budget_s=args.budget
+            ),
+            1 if args.quick else BATCH_REPEATS,
         )
     batch_steps = min(imp[(n_worlds, s)]["steps"] for s in (True, False))
     _stage(f"pymunk pool break, {n_worlds} worlds, {batch_steps} steps")
-    pmN = pymunk_peer.pool_break_pymunk(n_worlds, batch_steps)
+    pmN = _median_run(
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, batch_steps),
+        1 if args.quick else BATCH_REPEATS,
+    )
 
     def pool_rows(n: int, pm: dict) -> None:
         for sleeping in (True, False):
@@ -824,11 +840,17 @@ def main(argv: list[str] | None = None) -> None:
     # -- pool break, varied shots (one shot per world) ---------------------------------------
     offsets = pool_cue_offsets(n_worlds)
     _stage(f"impulse2d pool break, varied shots, {n_worlds} worlds, sleeping=True")
-    var = pool_break_impulse2d(
-        n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=args.budget, cue_y_offsets=offsets
+    var = _median_run(
+        lambda: pool_break_impulse2d(
+            n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=args.budget, cue_y_offsets=offsets
+        ),
+        1 if args.quick else BATCH_REPEATS,
     )
     _stage(f"pymunk pool break, varied shots, {n_worlds} worlds, {var['steps']} steps")
-    pmV = pymunk_peer.pool_break_pymunk(n_worlds, var["steps"], offsets)
+    pmV = _median_run(
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, var["steps"], offsets),
+        1 if args.quick else BATCH_REPEATS,
+    )
     ws_i, ws_p = var["world_steps_per_s"], pmV["world_steps_per_s"]
     same_shot = imp[(n_worlds, True)]
     vs_same = (
