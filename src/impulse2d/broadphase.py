@@ -122,10 +122,16 @@ class Broadphase:
         says slots a and b may collide, and ``kind`` gives each slot's shape kind.
         """
         c = candidates
-        escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow[c] > self.fat_hx[c]) | (
-            np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow[c] > self.fat_hy[c]
-        )
-        moved = c[escaped]
+        if 2 * c.size > x.size:  # most bodies move: whole arrays beat gathering them
+            escaped = (np.abs(x - self.fat_x) + extent_x + grow > self.fat_hx) | (
+                np.abs(y - self.fat_y) + extent_y + grow > self.fat_hy
+            )
+            moved = c[escaped[c]]
+        else:
+            escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow[c] > self.fat_hx[c]) | (
+                np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow[c] > self.fat_hy[c]
+            )
+            moved = c[escaped]
         if self.any_stale:
             moved = np.union1d(moved, np.flatnonzero(self.stale))
             self.stale[:] = False
