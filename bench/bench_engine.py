@@ -86,7 +86,7 @@ RAIN_SLEEPING = False  # the piles would fall asleep; time the awake cost, as py
 DEFAULT_WORLDS = 1024
 BATCH_BUDGET_S = 90.0  # a batch run stops early (timing a prefix of the break) past this
 SINGLE_REPEATS = 5  # single-world impulse2d runs; the median is reported
-BATCH_REPEATS = 3  # batch runs of each engine, alternating; the median is reported (this
+BATCH_REPEATS = 5  # batch runs of each engine, alternating; the median is reported (this
 # machine is shared and a single run of either engine can be 30 % off)
 PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
 PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
@@ -176,6 +176,16 @@ def _positions(world: p2.World, indices: list[int]) -> np.ndarray:
 def _velocities(world: p2.World, indices: list[int]) -> np.ndarray:
     bodies = world.bodies
     return np.array([bodies[i].velocity for i in indices], dtype=np.float64)
+
+
+def _paired_runs(first: Any, second: Any, repeats: int) -> tuple[dict, dict]:
+    """Run two benchmarks alternately ``repeats`` times each (so a busy spell on this shared
+    machine slows both alike) and keep the run of median speed of each."""
+    runs: tuple[list[dict], list[dict]] = ([], [])
+    for _ in range(repeats):
+        runs[0].append(first())
+        runs[1].append(second())
+    return tuple(sorted(r, key=lambda x: x["world_steps_per_s"])[repeats // 2] for r in runs)
 
 
 def _median_run(run: Any, repeats: int) -> dict:
@@ -693,20 +703,23 @@ def main(argv: list[str] | None = None) -> None:
     pm1 = sorted(pm_runs, key=lambda r: r["seconds"])[PYMUNK_SINGLE_REPEATS // 2]
 
     # -- pool break, batch -------------------------------------------------------------------
-    for sleeping in (True, False):
-        _stage(f"impulse2d pool break, {n_worlds} worlds, sleeping={sleeping}")
-        imp[(n_worlds, sleeping)] = _median_run(
-            lambda sleeping=sleeping: pool_break_impulse2d(
-                n_worlds, pool_steps, POOL_SUBSTEPS, sleeping, budget_s=args.budget
-            ),
-            1 if args.quick else BATCH_REPEATS,
-        )
-    batch_steps = min(imp[(n_worlds, s)]["steps"] for s in (True, False))
-    _stage(f"pymunk pool break, {n_worlds} worlds, {batch_steps} steps")
-    pmN = _median_run(
-        lambda: pymunk_peer.pool_break_pymunk(n_worlds, batch_steps),
-        1 if args.quick else BATCH_REPEATS,
+    repeats = 1 if args.quick else BATCH_REPEATS
+    _stage(f"impulse2d and pymunk pool break, {n_worlds} worlds, alternating")
+    imp[(n_worlds, True)], pmN = _paired_runs(
+        lambda: pool_break_impulse2d(
+            n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=args.budget
+        ),
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, pool_steps),
+        repeats,
     )
+    _stage(f"impulse2d pool break, {n_worlds} worlds, sleeping=False")
+    imp[(n_worlds, False)] = _median_run(
+        lambda: pool_break_impulse2d(
+            n_worlds, pool_steps, POOL_SUBSTEPS, False, budget_s=args.budget
+        ),
+        repeats,
+    )
+    batch_steps = pool_steps
 
     def pool_rows(n: int, pm: dict) -> None:
         for sleeping in (True, False):
@@ -839,16 +852,12 @@ def main(argv: list[str] | None = None) -> None:
 
     # -- pool break, varied shots (one shot per world) ---------------------------------------
     offsets = pool_cue_offsets(n_worlds)
-    _stage(f"impulse2d pool break, varied shots, {n_worlds} worlds, sleeping=True")
-    var = _median_run(
+    _stage(f"impulse2d and pymunk pool break, varied shots, {n_worlds} worlds, alternating")
+    var, pmV = _paired_runs(
         lambda: pool_break_impulse2d(
             n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=args.budget, cue_y_offsets=offsets
         ),
-        1 if args.quick else BATCH_REPEATS,
-    )
-    _stage(f"pymunk pool break, varied shots, {n_worlds} worlds, {var['steps']} steps")
-    pmV = _median_run(
-        lambda: pymunk_peer.pool_break_pymunk(n_worlds, var["steps"], offsets),
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, pool_steps, offsets),
         1 if args.quick else BATCH_REPEATS,
     )
     ws_i, ws_p = var["world_steps_per_s"], pmV["world_steps_per_s"]
