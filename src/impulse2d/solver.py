@@ -99,14 +99,10 @@ def separation(contacts: Contacts, pose: np.ndarray) -> np.ndarray:
 
 def warm_start(contacts: Contacts, velocity: np.ndarray) -> None:
     """Apply the accumulated normal and friction impulses to the ``(3, T)`` velocities."""
-    pushing = np.flatnonzero((contacts.normal_impulse != 0.0) | (contacts.tangent_impulse != 0.0))
-    if pushing.size == 0:  # fresh or speculative contacts carry nothing yet
-        return
-    change = (
-        contacts.inv_n[:, pushing] * contacts.normal_impulse[pushing]
-        + contacts.inv_t[:, pushing] * contacts.tangent_impulse[pushing]
-    )
-    np.add.at(velocity.reshape(-1), contacts.index6[:, pushing].ravel(), change.ravel())
+    if not (contacts.normal_impulse.any() or contacts.tangent_impulse.any()):
+        return  # fresh or speculative contacts carry nothing yet
+    change = contacts.inv_n * contacts.normal_impulse + contacts.inv_t * contacts.tangent_impulse
+    np.add.at(velocity.reshape(-1), contacts.index6.ravel(), change.ravel())
 
 
 def solve(
