@@ -23,8 +23,10 @@ import impulse2d as p2
 from impulse2d.render import Renderer
 
 try:
+    from bench.bench_engine import _pool_world, _pyramid_world
     from bench.scenes import pool_break, pyramid
 except ImportError:
+    from bench_engine import _pool_world, _pyramid_world
     from scenes import pool_break, pyramid
 
 SIZES = ((480, 270), (960, 540))
@@ -34,31 +36,7 @@ FRAMES = 200
 def pool_world() -> p2.World:
     """The benchmark pool break, stepped 90 steps so the balls are spread out."""
     scene = pool_break()
-    world = p2.World(
-        gravity=scene.gravity, substeps=2, restitution_mixing="min", restitution_threshold=0.05
-    )
-    for box in scene.cushions:
-        world.add(
-            p2.Box(
-                position=box.center,
-                width=2 * box.half_extents[0],
-                height=2 * box.half_extents[1],
-                fixed=True,
-                restitution=scene.restitution_ball_cushion,
-            )
-        )
-    for p, v in zip(scene.positions, scene.velocities, strict=True):
-        world.add(
-            p2.Circle(
-                position=p,
-                velocity=v,
-                radius=scene.ball_radius,
-                mass=scene.ball_mass,
-                restitution=scene.restitution_ball_ball,
-                friction=0.0,
-                linear_drag=scene.linear_drag,
-            )
-        )
+    world, _, _ = _pool_world(scene, substeps=2, sleeping=True)
     for _ in range(90):
         world.step(scene.dt)
     return world
@@ -67,18 +45,7 @@ def pool_world() -> p2.World:
 def pyramid_world() -> p2.World:
     """The 10-row pyramid of 55 unit boxes on a fixed ground box, settled for 1 s."""
     scene = pyramid(10)
-    world = p2.World(gravity=scene.gravity, sleeping=False)
-    ground = scene.ground
-    world.add(
-        p2.Box(
-            position=ground.center,
-            width=2 * ground.half_extents[0],
-            height=2 * ground.half_extents[1],
-            fixed=True,
-        )
-    )
-    for position in scene.positions:
-        world.add(p2.Box(position=position, width=scene.box_size, height=scene.box_size))
+    world, _ = _pyramid_world(scene)
     for _ in range(60):
         world.step(scene.dt)
     return world

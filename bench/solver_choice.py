@@ -21,42 +21,23 @@ import math
 import time
 
 import numpy as np
-import pymunk
-
-import impulse2d as p2
 
 try:
+    from bench.bench_engine import _pool_world, _pyramid_world
+    from bench.pymunk_peer import _pool_space
     from bench.scenes import pool_break, pyramid
 except ImportError:
+    from bench_engine import _pool_world, _pyramid_world
+    from pymunk_peer import _pool_space
     from scenes import pool_break, pyramid
 
 
 def pyramid_quality(substeps: int, base: int = 20) -> tuple[float, float, float]:
     """Top-box drift, largest drift (m) after 10 s, and ms/step over the first 300 steps."""
     scene = pyramid(base)
-    world = p2.World(gravity=scene.gravity, substeps=substeps, sleeping=False)
-    ground = scene.ground
-    world.add(
-        p2.Box(
-            position=ground.center,
-            width=2 * ground.half_extents[0],
-            height=2 * ground.half_extents[1],
-            fixed=True,
-            friction=scene.friction,
-        )
-    )
-    boxes = [
-        world.add(
-            p2.Box(
-                position=p,
-                width=scene.box_size,
-                height=scene.box_size,
-                mass=scene.box_mass,
-                friction=scene.friction,
-            )
-        )
-        for p in scene.positions
-    ]
+    world, indices = _pyramid_world(scene)
+    world.substeps = substeps
+    boxes = [world.bodies[k] for k in indices]
     start = np.array([b.position for b in boxes])
     began = time.perf_counter()
     for _ in range(300):
@@ -71,37 +52,8 @@ def pyramid_quality(substeps: int, base: int = 20) -> tuple[float, float, float]
 def pool_quality(substeps: int, worlds: int = 256) -> tuple[float, float, float]:
     """Deepest ball overlap (mm), largest KE / (KE0 exp(-2 d t)), world-steps/s."""
     scene = pool_break()
-    world = p2.World(
-        gravity=scene.gravity,
-        substeps=substeps,
-        restitution_mixing="min",
-        restitution_threshold=0.05,
-    )
-    for box in scene.cushions:
-        world.add(
-            p2.Box(
-                position=box.center,
-                width=2 * box.half_extents[0],
-                height=2 * box.half_extents[1],
-                fixed=True,
-                restitution=scene.restitution_ball_cushion,
-                friction=scene.friction,
-            )
-        )
-    balls = [
-        world.add(
-            p2.Circle(
-                position=p,
-                velocity=v,
-                radius=scene.ball_radius,
-                mass=scene.ball_mass,
-                restitution=scene.restitution_ball_ball,
-                friction=scene.friction,
-                linear_drag=scene.linear_drag,
-            )
-        )
-        for p, v in zip(scene.positions, scene.velocities, strict=True)
-    ]
+    world, indices, _ = _pool_world(scene, substeps=substeps, sleeping=True)
+    balls = [world.bodies[k] for k in indices]
     batch = world.replicate(worlds)
     overlap, gain = 0.0, 0.0
     ke0 = 0.5 * scene.ball_mass * float((scene.velocities**2).sum())
@@ -123,27 +75,7 @@ def pool_quality(substeps: int, worlds: int = 256) -> tuple[float, float, float]
 def pymunk_pool_overlap() -> float:
     """The deepest ball-ball overlap (mm) in pymunk's pool break (same scene, 300 steps)."""
     scene = pool_break()
-    space = pymunk.Space()
-    space.damping = math.exp(-scene.linear_drag)
-    for box in scene.cushions:
-        shape = pymunk.Poly.create_box(
-            space.static_body, (2 * box.half_extents[0], 2 * box.half_extents[1])
-        )
-        shape.body.position = (0, 0)
-        shape.unsafe_set_vertices(
-            [(x + box.center[0], y + box.center[1]) for x, y in shape.get_vertices()]
-        )
-        shape.elasticity = scene.restitution_ball_cushion / math.sqrt(scene.restitution_ball_ball)
-        space.add(shape)
-    bodies = []
-    for p, v in zip(scene.positions, scene.velocities, strict=True):
-        moment = pymunk.moment_for_circle(scene.ball_mass, 0, scene.ball_radius)
-        body = pymunk.Body(scene.ball_mass, moment)
-        body.position, body.velocity = tuple(p), tuple(v)
-        shape = pymunk.Circle(body, scene.ball_radius)
-        shape.elasticity = math.sqrt(scene.restitution_ball_ball)
-        space.add(body, shape)
-        bodies.append(body)
+    space, bodies = _pool_space(scene)
     overlap = 0.0
     for _ in range(300):
         space.step(scene.dt)
