@@ -170,3 +170,19 @@ def test_impulse_changes_momentum(shape):
     np.testing.assert_allclose(body.velocity, impulse / 3.0, rtol=1e-12)
     torque = r[0] * impulse[1] - r[1] * impulse[0]
     assert body.angular_velocity == pytest.approx(torque / moment, rel=1e-12)
+
+
+@pytest.mark.parametrize(("speed", "deceleration"), [(2.0, 0.1), (5.0, 0.5)])
+def test_rolling_resistance_stops_after_v2_over_2a(speed, deceleration):
+    """Rolling resistance a (m/s^2) stops a body after v0/a seconds and v0^2/(2a) metres."""
+    world = p2.World(gravity=(0.0, 0.0), sleeping=False)
+    ball = world.add(
+        p2.Circle(radius=0.03, velocity=(speed, 0.0), rolling_resistance=deceleration)
+    )
+    dt, steps = 1 / 120, 0
+    while ball.velocity[0] > 0.0:
+        world.step(dt)
+        steps += 1
+    assert steps * dt == pytest.approx(speed / deceleration, abs=2 * dt)
+    assert ball.position[0] == pytest.approx(speed**2 / (2 * deceleration), rel=0.005)
+    assert ball.velocity[0] == 0.0  # it stops, it does not turn around

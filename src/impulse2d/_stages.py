@@ -44,6 +44,8 @@ class StepTerms:
     damping: np.ndarray  # (3, T): exp(-drag h) on movable bodies, else 1
     inv_mass: np.ndarray  # (T,) 1/m on movable bodies, else 0
     inv_moment: np.ndarray  # (T,)
+    rolling_h: np.ndarray  # (T,) h * rolling resistance on movable bodies, else 0
+    rolling: np.ndarray  # flat indices of the bodies with rolling resistance
 
 
 _COMPACT_FRACTION = 0.4  # below this fraction of moving bodies, integrate by index
@@ -77,10 +79,18 @@ class Integrator:
             flat = self.vel.reshape(-1)
             moved = flat[self.index3] * self.damping
             flat[self.index3] = moved if self.accel is None else moved + self.accel
-            return
-        self.vel *= self.terms.damping
-        if self.accel_h is not None:
-            self.vel += self.accel_h
+        else:
+            self.vel *= self.terms.damping
+            if self.accel_h is not None:
+                self.vel += self.accel_h
+        rolling = self.terms.rolling
+        if rolling.size:
+            # Rolling resistance takes a fixed amount off the speed each substep, never
+            # turning the body around: v *= max(0, 1 - a h / |v|).
+            vx, vy = self.vel[0, rolling], self.vel[1, rolling]
+            speed = np.hypot(vx, vy)
+            keep = np.maximum(1.0 - self.terms.rolling_h[rolling] / np.maximum(speed, 1e-300), 0.0)
+            self.vel[0, rolling], self.vel[1, rolling] = vx * keep, vy * keep
 
     def positions(self) -> None:
         if self.terms.compact:
@@ -134,6 +144,8 @@ class StepStages:
             damping=np.ones((3, total)),
             inv_mass=np.zeros(total),
             inv_moment=np.zeros(total),
+            rolling_h=np.zeros(total),
+            rolling=np.zeros(0, np.int64),
         )
         self._refresh_terms(terms, np.arange(total))
         return terms
@@ -154,6 +166,8 @@ class StepStages:
         terms.damping[2, bodies] = np.where(movable, angular[bodies], 1.0)
         terms.inv_mass[bodies] = np.where(movable, flat["inv_mass"][bodies], 0.0)
         terms.inv_moment[bodies] = np.where(movable, flat["inv_moment"][bodies], 0.0)
+        terms.rolling_h[bodies] = np.where(movable, h * flat["rolling_resistance"][bodies], 0.0)
+        terms.rolling = np.flatnonzero(terms.rolling_h)
         total = terms.moving.size
         terms.index = np.flatnonzero(terms.moving)
         terms.index3 = np.concatenate([terms.index, terms.index + total, terms.index + 2 * total])

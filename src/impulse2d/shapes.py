@@ -136,6 +136,8 @@ class Body(_Slot):
     ``angular_velocity`` (rad/s), ``mass`` (kg), ``restitution`` (>= 0; 1 is perfectly
     elastic; above 1 adds energy), ``friction`` (Coulomb coefficient >= 0),
     ``linear_drag`` and ``angular_drag`` (1/s: speeds decay as ``exp(-drag t)``),
+    ``rolling_resistance`` (m/s^2: the speed falls by this much per second until the body
+    stops, as a ball rolling on cloth in a top-down scene: 0.1 for a pool ball),
     ``fixed`` (never moves: infinite mass) and ``kinematic`` (moves with the velocity
     you give it, pushes dynamic bodies, is not pushed back: infinite mass).
 
@@ -152,6 +154,9 @@ class Body(_Slot):
     friction = _Field("friction", rule=">= 0", doc="Coulomb friction coefficient.")
     linear_drag = _Field("linear_drag", rule=">= 0", doc="Linear drag (1/s).")
     angular_drag = _Field("angular_drag", rule=">= 0", doc="Angular drag (1/s).")
+    rolling_resistance = _Field(
+        "rolling_resistance", rule=">= 0", doc="Constant deceleration of the speed (m/s^2)."
+    )
 
     _saved = (
         "position",
@@ -163,6 +168,7 @@ class Body(_Slot):
         "friction",
         "linear_drag",
         "angular_drag",
+        "rolling_resistance",
     )
 
     def __init__(
@@ -177,6 +183,7 @@ class Body(_Slot):
         friction: Any = 0.6,
         linear_drag: Any = 0.0,
         angular_drag: Any = 0.0,
+        rolling_resistance: Any = 0.0,
         fixed: bool = False,
         kinematic: bool = False,
     ) -> None:
@@ -199,6 +206,7 @@ class Body(_Slot):
             "friction": friction,
             "linear_drag": linear_drag,
             "angular_drag": angular_drag,
+            "rolling_resistance": rolling_resistance,
         }
         for name, value in values.items():
             setattr(self, name, value)

@@ -66,6 +66,7 @@ BODY_FIELDS: tuple[Field, ...] = (
     Field("friction", np.float64, 0.0, 0, "Coulomb friction coefficient"),
     Field("linear_drag", np.float64, 0.0, 0, "1/s: velocity decays as exp(-d t)"),
     Field("angular_drag", np.float64, 0.0, 0, "1/s: angular velocity decays as exp(-d t)"),
+    Field("rolling_resistance", np.float64, 0.0, 0, "m/s^2: constant deceleration of speed"),
 )
 
 SPRING_FIELDS: tuple[Field, ...] = (
