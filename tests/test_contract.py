@@ -840,3 +840,39 @@ def test_replicate_maps_bodies_to_independent_copies():
     steps(copy, 5)
     np.testing.assert_array_equal(c.position, [0.0, 2.0])
     assert world.steps == 0
+
+
+def test_impulses_report_how_hard_each_body_was_hit():
+    """World.impulses: a resting body receives m g dt per step; a body stopped dead by a
+    plane receives its momentum (summed over the steps of the impact)."""
+    world = p2.World(gravity=(0.0, -9.81), sleeping=False)
+    world.add(p2.Plane())
+    ball = world.add(p2.Circle(position=(0, 2.0), radius=0.5, mass=2.0))
+    dt, received, momentum = 1 / 60, 0.0, 0.0
+    while received == 0.0:
+        momentum = -ball.mass * ball.velocity[1]
+        world.step(dt)
+        received = world.impulses()[ball.slot]
+    for _ in range(3):
+        world.step(dt)
+        received += world.impulses()[ball.slot]
+    assert received == pytest.approx(momentum + 4 * ball.mass * 9.81 * dt, rel=0.05)
+    world.step(dt)
+    assert world.impulses()[ball.slot] == pytest.approx(ball.mass * 9.81 * dt, rel=1e-6)
+    batch = world.replicate(3)
+    batch.step(dt)
+    assert batch.impulses().shape == (3, world._bodies.capacity)
+
+
+def test_at_rest_and_stop():
+    """at_rest is True once everything sleeps; stop() brings chosen worlds to rest at once,
+    and a stopped body stays put until something touches it."""
+    world = p2.World(gravity=(0.0, 0.0)).replicate(2)
+    ball = world.add(p2.Circle(velocity=(1.0, 0.0)))
+    assert not world.at_rest().any()
+    world.stop(worlds=[1])
+    np.testing.assert_array_equal(world.at_rest(), [False, True])
+    world.step(1 / 60)
+    assert ball.position[1, 0] == 0.0 and ball.position[0, 0] > 0.0
+    with pytest.raises(ValueError, match="worlds"):
+        world.stop(worlds=[2])

@@ -260,6 +260,7 @@ class Contacts:
     tangent_impulse: np.ndarray
     max_normal_impulse: np.ndarray  # largest solver increment this step (did it push?)
     impact_velocity: np.ndarray  # normal velocity when the point first pushed (0: not yet)
+    step_impulse: np.ndarray  # normal impulse applied over the whole step (N s)
     watched: np.ndarray | None  # shared points that may bounce: whose impact_velocity to keep
     anchor_ax: np.ndarray
     anchor_ay: np.ndarray
@@ -402,6 +403,7 @@ def build(
         tangent_impulse=tangent_impulse,
         max_normal_impulse=np.zeros(key.size),
         impact_velocity=np.zeros(key.size),
+        step_impulse=np.zeros(key.size),
         watched=_watched(shared, relative_velocity, restitution),
         anchor_ax=rax,
         anchor_ay=ray,

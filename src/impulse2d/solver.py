@@ -101,6 +101,7 @@ def warm_start(contacts: Contacts, velocity: np.ndarray) -> None:
     """Apply the accumulated normal and friction impulses to the ``(3, T)`` velocities."""
     if not (contacts.normal_impulse.any() or contacts.tangent_impulse.any()):
         return  # fresh or speculative contacts carry nothing yet
+    contacts.step_impulse += contacts.normal_impulse
     change = contacts.inv_n * contacts.normal_impulse + contacts.inv_t * contacts.tangent_impulse
     np.add.at(velocity.reshape(-1), contacts.index6.ravel(), change.ravel())
 
@@ -160,6 +161,7 @@ def solve(
         total = np.maximum(accumulated + impulse, 0.0)
         impulse = total - accumulated
         contacts.normal_impulse[lo:hi] = total
+        contacts.step_impulse[lo:hi] += impulse
         np.maximum(
             contacts.max_normal_impulse[lo:hi], impulse, out=contacts.max_normal_impulse[lo:hi]
         )
@@ -257,5 +259,6 @@ def _restitution_sweep(
         total = np.maximum(accumulated - contacts.normal_mass[chosen] * (vn + targets[chosen]), 0.0)
         impulse = total - accumulated
         contacts.normal_impulse[chosen] = total
+        contacts.step_impulse[chosen] += impulse
         v += impulse * contacts.inv_n[:, chosen]
         flat[index] = v.ravel()

@@ -24,7 +24,7 @@ from ._snapshot import SnapshotMixin
 from ._stages import Integrator, StepStages, StepTerms
 from .contacts import MIXING_RULES, Cache, Contacts
 from .energy import Energy, energy_of
-from .state import BOX, CIRCLE
+from .state import BOX, CIRCLE, FIXED
 
 
 class World(SlotStore, SnapshotMixin, StepStages):
@@ -221,6 +221,42 @@ class World(SlotStore, SnapshotMixin, StepStages):
         return energy_of(
             self._views, self._dynamic_flat, self._gravity, self._active_springs(), self._batch
         )
+
+    def at_rest(self) -> Any:
+        """True for a world in which nothing moves (every body asleep or fixed): a bool,
+        or one per world."""
+        b = self._bodies
+        rest = ~(b["awake"] & b["enabled"]).any(axis=1)
+        return bool(rest[0]) if self._batch == 1 else rest
+
+    def stop(self, worlds: Any = None) -> None:
+        """Bring every body of the given worlds (default: all) to rest at once: velocities
+        zero, dynamic bodies asleep. A game that caps how long a move may run uses this to
+        end it the same way whether a world is stepped alone or in a batch."""
+        b = self._bodies
+        rows = np.arange(self._batch) if worlds is None else np.asarray(worlds).reshape(-1)
+        if rows.dtype.kind not in "iu" or np.any(rows < 0) or np.any(rows >= self._batch):
+            raise ValueError(f"worlds must be indices in [0, {self._batch}), got {worlds!r}")
+        n = b.capacity
+        flat = (rows[:, None] * n + np.flatnonzero(self._motion != FIXED)[None, :]).ravel()
+        b.flat("vel")[:, flat] = 0.0
+        dynamic = flat[self._dynamic_flat[flat]]
+        b.flat("awake")[flat] = False
+        b.flat("sleep_time")[dynamic] = 0.0
+        b.flat("island")[dynamic] = dynamic  # each its own island: any touch wakes it alone
+        self._touch()
+
+    def impulses(self) -> Any:
+        """The contact impulse each body received in the last step (N s): the sum over its
+        contact points of the normal impulses, shape ``(slots,)`` or ``(batch, slots)``
+        (index by ``body.slot``). Games use it for damage: how hard was it hit."""
+        total = np.zeros(self._batch * self._bodies.capacity)
+        contacts = self.last_contacts
+        if contacts is not None and contacts.size:
+            np.add.at(total, contacts.body_a, contacts.step_impulse)
+            np.add.at(total, contacts.body_b, contacts.step_impulse)
+        total = total.reshape(self._batch, -1)
+        return total[0] if self._batch == 1 else total
 
     def query_point(self, point: Any, world: int = 0) -> list:
         """The circles and boxes that contain a world point (in world ``world`` of the
