@@ -309,3 +309,64 @@ def test_restore_batch_snapshot_into_selected_worlds():
     for k in range(6):
         reference = saved[k] if k in (3, 5) else state(control, k)
         np.testing.assert_array_equal(state(batch, k), reference, err_msg=f"world {k}")
+
+
+def _resting_pair(world: p2.World) -> tuple[p2.Circle, p2.Circle]:
+    """Two touching balls on a frictionless floor, put to sleep."""
+    world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0)))
+    a = world.add(p2.Circle(position=(0.0, 0.5), radius=0.5))
+    b = world.add(p2.Circle(position=(1.0, 0.5), radius=0.5))
+    world.stop()
+    return a, b
+
+
+def test_restored_sleepers_wake_only_in_their_own_world():
+    """Island ids are flat indices: a sleeping island copied into another world (restore
+    or replicate) must name that world, so a push in one world wakes no other."""
+    template = p2.World()
+    _resting_pair(template)
+    snap = template.snapshot()
+    batch = p2.World(batch_size=3)
+    a, _ = _resting_pair(batch)
+    batch.restore(snap, worlds=[2])
+    a.apply_impulse([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]])
+    batch.step(DT)
+    assert batch.at_rest().tolist() == [True, True, False]
+    copies = template.replicate(3)
+    copies.bodies[1].apply_impulse([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])
+    copies.step(DT)
+    assert copies.at_rest().tolist() == [False, True, True]
+
+
+def test_writing_one_world_leaves_the_others_asleep():
+    """A batch setter writes every world, but only the worlds whose value changes are
+    woken and re-queried (a game respotting a ball in one world)."""
+    batch = p2.World(batch_size=3)
+    a, _ = _resting_pair(batch)
+    positions = np.array(a.position)
+    positions[1] = (-3.0, 0.5)
+    a.position = positions
+    assert batch.at_rest().tolist() == [True, False, True]
+    assert a.awake.tolist() == [False, True, False]
+
+
+def test_restore_refreshes_per_world_sizes():
+    """A snapshot whose bodies have other sizes than the target world's: after restore the
+    broadphase uses the restored sizes, so a pebble dropped on a big ball lands on it."""
+
+    def scene(world: p2.World, big: float) -> p2.Circle:
+        world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0)))
+        world.add(p2.Circle(position=(0.0, big), radius=big))
+        return world.add(p2.Circle(position=(0.0, 4.3), radius=0.1))
+
+    template = p2.World()
+    pebble = scene(template, 2.0)
+    snap = template.snapshot()
+    batch = p2.World(batch_size=2)
+    pebbles = scene(batch, 0.1)
+    batch.restore(snap, worlds=[1])
+    for _ in range(90):
+        batch.step(DT)
+        template.step(DT)
+    assert pebble.position[1] == pytest.approx(4.1, abs=0.01)
+    np.testing.assert_array_equal(pebbles.position[1], pebble.position)

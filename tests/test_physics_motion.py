@@ -176,9 +176,7 @@ def test_impulse_changes_momentum(shape):
 def test_rolling_resistance_stops_after_v2_over_2a(speed, deceleration):
     """Rolling resistance a (m/s^2) stops a body after v0/a seconds and v0^2/(2a) metres."""
     world = p2.World(gravity=(0.0, 0.0), sleeping=False)
-    ball = world.add(
-        p2.Circle(radius=0.03, velocity=(speed, 0.0), rolling_resistance=deceleration)
-    )
+    ball = world.add(p2.Circle(radius=0.03, velocity=(speed, 0.0), rolling_resistance=deceleration))
     dt, steps = 1 / 120, 0
     while ball.velocity[0] > 0.0:
         world.step(dt)

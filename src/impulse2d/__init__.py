@@ -20,3 +20,18 @@ from .world import World
 
 __all__ = ["Body", "Box", "Circle", "Energy", "Plane", "Snapshot", "Spring", "World"]
 __version__ = "0.1.0"
+
+
+def _register_environments() -> None:
+    """Make ``gym.make("Pool2D-v0")`` work after ``import impulse2d``, if gymnasium is
+    installed (the engine itself needs only numpy)."""
+    try:
+        import gymnasium  # noqa: F401
+    except ImportError:
+        return
+    from .envs import register
+
+    register()
+
+
+_register_environments()

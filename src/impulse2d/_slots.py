@@ -266,15 +266,21 @@ class SlotStore:
         if array == "vel" and self._motion[slot] == FIXED and np.any(values != 0.0):
             name = "velocity" if isinstance(rows, slice) else "angular_velocity"
             raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
+        # Only the worlds whose value changes are touched: a game that rewrites one world
+        # of a batch (a respotted cue ball) must not wake the same body in the others,
+        # or stepping the batch would stop giving what each world gives alone.
+        before = self._read_slot(slot, array, rows)
+        changed = np.asarray(before != values.reshape(np.shape(before)))
+        changed = changed.reshape(self._batch, -1).any(axis=1)
         self._store(slot, array, rows, values)
+        flat = self._slot_flat(slot)[changed]
         if moves:
-            self._forget_moves(slot)
-        self._wake_slot(slot)
+            self._forget_moves(flat)
+        self._wake_islands(flat)
         self._touch()
 
-    def _forget_moves(self, slot: int) -> None:
-        """A teleported or resized body: re-query it and wake what was resting on it."""
-        flat = self._slot_flat(slot)
+    def _forget_moves(self, flat: np.ndarray) -> None:
+        """Teleported or resized bodies: re-query them and wake what was resting on them."""
         self._broadphase.mark(flat)
         self._wake_neighbours(flat)
 
@@ -291,12 +297,16 @@ class SlotStore:
         b["inv_mass"][:, slot] = 1.0 / mass if dynamic else 0.0
         b["inv_moment"][:, slot] = 1.0 / moment if dynamic else 0.0
         b["bound"][:, slot] = hw if kind == CIRCLE else np.hypot(hw, hh) if kind == BOX else 0.0
-        flat = self._slot_flat(slot)
+        self._refresh_sizes(self._slot_flat(slot))
+        self._touch()
+
+    def _refresh_sizes(self, flat: np.ndarray) -> None:
+        """Recompute what the broadphase derives from body sizes (extents, fat margins,
+        speculative distances) and make it look at those bodies again."""
         self._extent_x[flat] = self._extent_y[flat] = self._views["bound"][flat]
         self._margin_base[flat] = self._fat_margin(flat)
         self._half_spec[flat] = self._speculative_half(flat)
         self._broadphase.mark(flat)
-        self._touch()
 
     def _set_enabled(self, slot: int, value: Any) -> None:
         flags = np.asarray(value)
@@ -359,7 +369,9 @@ class SlotStore:
         else:
             b["vel"][:2, :, slot] += push.T * b["inv_mass"][:, slot]
             b["vel"][2, :, slot] += torque * b["inv_moment"][:, slot]
-        self._wake_slot(slot)
+        # Wake the body only in the worlds it is pushed in (a batch of shots where some
+        # worlds sit out must leave those exactly as they are).
+        self._wake_islands(self._slot_flat(slot)[np.any(push != 0.0, axis=1)])
 
     # -- springs ------------------------------------------------------------------------------
     def _add_spring(self, spring: Spring) -> Spring:

@@ -102,12 +102,17 @@ class SnapshotMixin:
         for table, saved in ((self._bodies, snapshot.bodies), (self._springs, snapshot.springs)):
             for name, array in table.arrays.items():
                 array[..., targets, :] = saved[name][..., sources, :]
+        # A sleeping body's island id is the flat index of a member: in a different world
+        # it must name the same slot of the target world, or waking one world's island
+        # would wake the same slots in another.
+        _rekey_islands(self._bodies["island"], targets, self._bodies.capacity)
         self._restore_cache(snapshot, targets, sources)
         self._time[targets] = snapshot.time[sources]
         if worlds is None:
             self.steps = snapshot.steps
         n = self._bodies.capacity
-        self._broadphase.mark((targets[:, None] * n + np.arange(n)).ravel())
+        # Sizes may differ per world (a game's levels): refresh what depends on them.
+        self._refresh_sizes((targets[:, None] * n + np.arange(n)).ravel())
         self._forces_pending = bool(self._bodies["force"].any())
         self._touch()
 
@@ -155,6 +160,7 @@ class SnapshotMixin:
             table.arrays = {
                 name: np.repeat(array, batch, axis=-2).copy() for name, array in saved.items()
             }
+        _rekey_islands(clone._bodies["island"], np.arange(batch), self._bodies.capacity)
         clone._kind, clone._motion = self._kind.copy(), self._motion.copy()
         clone._spring_a, clone._spring_b = self._spring_a.copy(), self._spring_b.copy()
         clone._time = np.repeat(self._time, batch)
@@ -183,3 +189,15 @@ class SnapshotMixin:
                 twin.body1, twin.body2 = mapping[id(spring.body1)], mapping[id(spring.body2)]
             clone._spring_objects.append(twin)
         return clone
+
+
+def _rekey_islands(island: np.ndarray, worlds: np.ndarray, capacity: int) -> None:
+    """Make the island ids of sleeping bodies copied into ``worlds`` name their own world.
+
+    An id is the flat index of a member (``world * capacity + slot``). Copied from another
+    world it would still name that world, and waking one world's island would wake the
+    same slots in every copy."""
+    rows = island[worlds]
+    asleep = rows >= 0
+    rows[asleep] = (worlds[:, None] * capacity + rows % capacity)[asleep]
+    island[worlds] = rows

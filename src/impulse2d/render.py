@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import astuple, dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -128,6 +129,8 @@ class Renderer:
         camera: Camera | None = None,
         style: Style | None = None,
         debug: Any = (),
+        underlay: Callable[[np.ndarray, Renderer], None] | None = None,
+        overlay: Callable[[np.ndarray, Renderer, int], None] | None = None,
     ) -> None:
         self.width = _checks.positive_int("width", width)
         self.height = _checks.positive_int("height", height)
@@ -136,9 +139,13 @@ class Renderer:
         self.camera = camera
         self.style = style if style is not None else Style()
         debug = (debug,) if isinstance(debug, str) else tuple(debug)
-        for overlay in debug:
-            _checks.choice("debug", overlay, DEBUG_OVERLAYS)
+        for name in debug:
+            _checks.choice("debug", name, DEBUG_OVERLAYS)
         self.debug = frozenset(debug)
+        # Game decorations: ``underlay(canvas, renderer)`` paints scenery that never changes
+        # (a table's cloth and pockets) under the bodies, once; ``overlay(canvas, renderer,
+        # world_index)`` paints over each frame (health bars, an aim line).
+        self.underlay, self.overlay = underlay, overlay
         self._static_key: Any = None
         self._static: np.ndarray | None = None
 
@@ -159,6 +166,8 @@ class Renderer:
             self._draw_velocities(canvas, view)
         if "aabbs" in self.debug:
             self._draw_aabbs(canvas, view)
+        if self.overlay is not None:
+            self.overlay(canvas, self, world_index)
         return (canvas + 0.5).astype(np.uint8)
 
     def render_batch(self, world: World, worlds: Any = None) -> np.ndarray:
@@ -178,16 +187,24 @@ class Renderer:
             astuple(self.style)[:-1],
             tuple(sorted(self.style.body_colours.items())),
             self.debug,
+            self.underlay,
             view.signature(fixed),
         )
         if key != self._static_key:
             canvas = np.empty((self.height, self.width, 3), np.float32)
             canvas[...] = np.asarray(self.style.background, np.float32)
+            if self.underlay is not None:
+                self.underlay(canvas, self)
             for slot in view.planes():
                 self._draw_plane(canvas, view, slot)
             self._draw_bodies(canvas, view, moving=False)
             self._static, self._static_key = canvas, key
         return self._static
+
+    def to_pixels(self, x: float, y: float) -> tuple[float, float]:
+        """Pixel coordinates (x right, y down) of a world point, with this renderer's
+        camera (for decorations)."""
+        return self._px(x, y)
 
     def _px(self, x: float, y: float) -> tuple[float, float]:
         s = self.camera.pixels_per_metre

@@ -258,6 +258,33 @@ class World(SlotStore, SnapshotMixin, StepStages):
         total = total.reshape(self._batch, -1)
         return total[0] if self._batch == 1 else total
 
+    def touches(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The contact points that pushed in the last step: ``(world, slot_a, slot_b,
+        impulse)`` arrays, one entry per point, with the normal impulse it applied over
+        the step (N s). Speculative points that never touched are left out. Games use it
+        for rules such as "the cue ball must hit a ball"."""
+        contacts = self.last_contacts
+        if contacts is None or contacts.size == 0:
+            empty = np.zeros(0, np.int64)
+            return empty, empty, empty, np.zeros(0)
+        pushed = np.flatnonzero(contacts.step_impulse > 0.0)
+        n = self._bodies.capacity
+        a, b = contacts.body_a[pushed], contacts.body_b[pushed]
+        return a // n, a % n, b % n, contacts.step_impulse[pushed]
+
+    def array(self, name: str) -> np.ndarray:
+        """A read-only view of one body field in every world, for vectorised readouts:
+        ``'pose'`` and ``'vel'`` have shape ``(3, batch, slots)`` (x, y, angle and their
+        rates), the others ``(batch, slots)``; ``state.BODY_FIELDS`` lists them with their
+        units. Index slots by ``body.slot``. Writes go through the objects, which keep the
+        derived state (masses, broadphase, sleep) consistent."""
+        if name not in self._bodies.arrays:
+            names = ", ".join(self._bodies.arrays)
+            raise ValueError(f"name must be one of {names}, got {name!r}")
+        view = self._bodies[name].view()
+        view.flags.writeable = False
+        return view
+
     def query_point(self, point: Any, world: int = 0) -> list:
         """The circles and boxes that contain a world point (in world ``world`` of the
         batch), in slot order. Planes are left out: they are the scenery."""

@@ -1,0 +1,149 @@
+"""What Pool2D and Slingshot2D share: turn-based games on a batch of worlds.
+
+A *shot game* is played one move at a time: the agent picks an action (a cue stroke, a
+launch), the physics runs until every body has come to rest (or a step cap), and the game
+scores what happened. ``ShotGame`` holds ``batch_size`` such games in one batched
+``impulse2d.World``; a single Gymnasium environment is a game with a batch of one, and the
+vector environment steps all its worlds in the same numpy calls. Because the engine steps
+every world of a batch exactly as it would alone, env ``i`` of a vector environment seeded
+``seed`` gives bitwise what a single environment seeded ``seed + i`` gives.
+
+Worlds whose shot has ended stop costing work: they are at rest, their bodies asleep, so
+the engine skips them while the others are still moving. A shot that reaches the step cap
+is ended with ``World.stop`` in that world, alone or in a batch alike.
+
+A new episode is built in a one-world *template* (by the same code that built the batch)
+and copied into its world with ``World.restore``: that writes only the chosen world, so a
+reset in a vector environment leaves the other worlds exactly as they were.
+
+Subclasses fill in the game: ``_new_episode`` (set the template up from a world's own
+random generator), ``_launch`` (apply the actions), ``_after_step`` (per physics step:
+pockets, damage), ``_score`` (reward, end of episode and info after a shot), ``observe``
+and ``make_renderer``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import impulse2d as p2
+from impulse2d import _checks
+from impulse2d.render import Renderer
+
+Info = dict[str, np.ndarray]
+
+
+class ShotGame:
+    """``batch_size`` games, one per world of one batched engine (see the module docstring).
+
+    Subclasses set, before using the loop: ``world`` (the batch), ``template`` (the same
+    scene with one world), ``dt`` (physics step, s), ``max_shot_steps``, and the bounds of
+    one observation, ``observation_low`` / ``observation_high`` (float32 vectors).
+    """
+
+    world: p2.World
+    template: p2.World
+    dt: float
+    max_shot_steps: int
+    observation_low: np.ndarray
+    observation_high: np.ndarray
+    action_size = 2
+
+    def __init__(self, batch_size: int) -> None:
+        self.batch_size = _checks.positive_int("num_envs", batch_size)
+        self.rngs: list[np.random.Generator] = [np.random.default_rng() for _ in range(batch_size)]
+        # Frames during a shot: ``on_frame(world_index)`` is called every ``frame_every``
+        # physics steps for world ``frame_world`` (0: do not call).
+        self.frame_every = 0
+        self.frame_world = 0
+        self.on_frame: Callable[[int], None] | None = None
+
+    # -- for subclasses -----------------------------------------------------------------------
+    def _new_episode(self, world: int, rng: np.random.Generator) -> None:
+        """Set up a new episode in world ``world`` (draw from ``rng`` only)."""
+        raise NotImplementedError
+
+    def _launch(self, worlds: np.ndarray, actions: np.ndarray) -> None:
+        """Apply one action per world (rows of ``actions``, already checked and clipped)."""
+        raise NotImplementedError
+
+    def _after_step(self, shooting: np.ndarray) -> None:
+        """Called after every physics step with the mask of worlds still in their shot."""
+
+    def _score(self, worlds: np.ndarray, steps: np.ndarray) -> tuple[np.ndarray, np.ndarray, Info]:
+        """Rewards (float64), terminated flags and info arrays of the worlds after a shot."""
+        raise NotImplementedError
+
+    def observe(self) -> np.ndarray:
+        """Observations of every world, shape ``(batch_size, observation_size)`` float32."""
+        raise NotImplementedError
+
+    def make_renderer(self, width: int, height: int) -> Renderer:
+        """A renderer set up to draw this game (camera, colours, decorations)."""
+        raise NotImplementedError
+
+    # -- the game loop --------------------------------------------------------------------------
+    @property
+    def observation_size(self) -> int:
+        return int(self.observation_low.size)
+
+    def seed(self, worlds: Any, seeds: list[int | None]) -> None:
+        """New random generators for some worlds (None: fresh entropy)."""
+        for w, s in zip(np.asarray(worlds).reshape(-1), seeds, strict=True):
+            self.rngs[int(w)] = np.random.default_rng(s)
+
+    def reset(self, worlds: Any) -> None:
+        """Start new episodes in the given worlds, each from its own generator."""
+        for w in np.asarray(worlds).reshape(-1):
+            self._new_episode(int(w), self.rngs[int(w)])
+
+    def _install(self, world: int) -> None:
+        """Copy the template (set up for a new episode) into world ``world``."""
+        self.world.restore(self.template.snapshot(), worlds=[world])
+
+    def shoot(self, worlds: Any, actions: Any) -> tuple[np.ndarray, np.ndarray, Info]:
+        """Play one shot in each of ``worlds`` (``actions``: one checked row per world) and
+        run the physics until they are all at rest. Returns rewards, terminated flags and
+        info arrays for those worlds, in the order given. Other worlds do not move."""
+        worlds = np.asarray(worlds, dtype=np.int64).reshape(-1)
+        self._launch(worlds, np.asarray(actions, dtype=np.float64).reshape(worlds.size, -1))
+        steps = self._run(worlds)
+        return self._score(worlds, steps)
+
+    def _run(self, worlds: np.ndarray) -> np.ndarray:
+        """Step until the given worlds are at rest; returns each one's physics steps."""
+        world = self.world
+        steps = np.zeros(worlds.size, np.int64)
+        shooting = np.zeros(self.batch_size, dtype=bool)
+        shooting[worlds] = True
+        count = 0
+        while True:
+            shooting &= ~np.atleast_1d(world.at_rest())
+            if not shooting.any():
+                break
+            if count >= self.max_shot_steps:  # the cap: end the shot where it stands
+                world.stop(np.flatnonzero(shooting))
+                break
+            world.step(self.dt)
+            count += 1
+            steps += shooting[worlds]
+            self._after_step(shooting)
+            if self.frame_every and self.on_frame and count % self.frame_every == 0:
+                self.on_frame(self.frame_world)
+        return steps
+
+
+def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """An action as float64, clipped to [-1, 1]; NaN or infinity raise ValueError."""
+    try:
+        array = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"action must be an array of {shape} numbers, got {action!r}") from error
+    if array.shape != shape:
+        raise ValueError(f"action must have shape {shape}, got {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"action must be finite, got {array.tolist()}")
+    return np.clip(array, -1.0, 1.0)

@@ -1,0 +1,239 @@
+"""Gymnasium faces of a shot game: a single ``gym.Env`` and a natively batched
+``gym.vector.VectorEnv``.
+
+Both wrap the same ``ShotGame``: the single env is a game with one world, the vector env a
+game with ``num_envs`` worlds stepped in one engine. Env ``i`` of a vector env reset with
+``seed`` uses the generator ``np_random(seed + i)``, the one a single env reset with
+``seed + i`` gets from ``super().reset``, so both play bitwise the same episodes.
+
+Autoreset (vector env): ``AutoresetMode.SAME_STEP``, as Gymnasium's ``SyncVectorEnv``
+does it. When an env's episode ends, ``step`` returns the first observation of its next
+episode; the last observation of the finished one is in ``info["final_obs"][i]`` and its
+info in ``info["final_info"]`` (every info key has a ``_key`` mask saying which envs it
+holds, Gymnasium's layout).
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from impulse2d import _checks
+
+from ._core import ShotGame, check_action
+
+RENDER_SIZE = (480, 270)  # width, height of rgb_array frames (pixels)
+RENDER_FPS = 30  # frames per simulated second in rgb_array_list and human modes
+
+
+class _Frames:
+    """Rendering for one game: the frame after a shot, frames during it, or a window."""
+
+    def __init__(self, game: ShotGame, render_mode: str | None, modes: list[str]) -> None:
+        if render_mode is not None and render_mode not in modes:
+            raise ValueError(f"render_mode must be one of {modes} or None, got {render_mode!r}")
+        self.game, self.mode = game, render_mode
+        self.renderer: Any = None
+        self.frames: list[np.ndarray] = []
+        self.window: Any = None
+        if render_mode in ("rgb_array_list", "human"):
+            game.frame_every = max(1, round(1.0 / (RENDER_FPS * game.dt)))
+            game.on_frame = self.during_shot
+
+    def frame(self, world: int = 0) -> np.ndarray:
+        if self.renderer is None:
+            self.renderer = self.game.make_renderer(*RENDER_SIZE)
+        return self.renderer.render(self.game.world, world)
+
+    def during_shot(self, world: int) -> None:
+        if self.mode == "rgb_array_list":
+            self.frames.append(self.frame(world))
+        elif self.mode == "human":
+            self.show(self.frame(world))
+
+    def show(self, frame: np.ndarray) -> None:
+        from impulse2d.envs._window import Window
+
+        if self.window is None:
+            self.window = Window(frame.shape[1], frame.shape[0], RENDER_FPS)
+        self.window.show(frame)
+
+    def close(self) -> None:
+        if self.window is not None:
+            self.window.close()
+            self.window = None
+
+
+class ShotEnv(gym.Env):
+    """A single environment on a ``ShotGame`` with one world (subclasses set ``game_class``
+    and document the game)."""
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": ["human", "rgb_array", "rgb_array_list"],
+        "render_fps": RENDER_FPS,
+    }
+    game_class: type[ShotGame]
+
+    def __init__(self, render_mode: str | None = None, **game_options: Any) -> None:
+        self.game = self.game_class(1, **game_options)
+        self.render_mode = render_mode
+        self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"])
+        self.observation_space = gym.spaces.Box(
+            self.game.observation_low, self.game.observation_high, dtype=np.float32
+        )
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (self.game.action_size,), np.float32)
+        self._ready = False
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self.game.rngs[0] = self.np_random
+        self.game.reset([0])
+        self._ready = True
+        self._frames.frames = []
+        self._after_move()
+        return self.game.observe()[0], {}
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if not self._ready:
+            raise RuntimeError("call reset() before step()")
+        action = check_action(action, self.action_space.shape)
+        reward, terminated, info = self.game.shoot([0], action[None])
+        self._after_move()
+        obs = self.game.observe()[0]
+        return obs, float(reward[0]), bool(terminated[0]), False, _scalars(info)
+
+    def _after_move(self) -> None:
+        if self.render_mode == "rgb_array_list":
+            self._frames.frames.append(self._frames.frame())
+        elif self.render_mode == "human":
+            self._frames.show(self._frames.frame())
+
+    def render(self) -> np.ndarray | list[np.ndarray] | None:
+        """``rgb_array``: the frame now; ``rgb_array_list``: every frame since the last
+        call (during the shots and after each); ``human``: the window is already drawn."""
+        if self.render_mode == "rgb_array":
+            return self._frames.frame()
+        if self.render_mode == "rgb_array_list":
+            frames, self._frames.frames = self._frames.frames, []
+            return frames
+        return None
+
+    def close(self) -> None:
+        self._frames.close()
+
+
+class ShotVectorEnv(gym.vector.VectorEnv):
+    """``num_envs`` games stepped in one batched engine (see the module docstring).
+
+    ``max_episode_steps`` truncates episodes (``gym.make_vec`` passes the registered
+    value); ``render_mode="rgb_array"`` renders every world.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": RENDER_FPS,
+        "autoreset_mode": AutoresetMode.SAME_STEP,
+    }
+    game_class: type[ShotGame]
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        max_episode_steps: int | None = None,
+        render_mode: str | None = None,
+        **game_options: Any,
+    ) -> None:
+        self.game = self.game_class(num_envs, **game_options)
+        self.num_envs = self.game.batch_size
+        if max_episode_steps is not None:
+            max_episode_steps = _checks.positive_int("max_episode_steps", max_episode_steps)
+        self.max_episode_steps = max_episode_steps
+        self.render_mode = render_mode
+        self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"])
+        self.single_observation_space = gym.spaces.Box(
+            self.game.observation_low, self.game.observation_high, dtype=np.float32
+        )
+        self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self.game.action_size,), np.float32)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._moves = np.zeros(self.num_envs, np.int64)
+        self._all = np.arange(self.num_envs)
+        self._ready = False
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        if seed is None:
+            seeds: list[int | None] = [None] * self.num_envs
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed must be an int or {self.num_envs} seeds, got {len(seeds)}")
+        if seed is not None or not self._ready:
+            for i, s in enumerate(seeds):
+                self.game.rngs[i] = seeding.np_random(s)[0]
+        self.game.reset(self._all)
+        self._moves[:] = 0
+        self._ready = True
+        return self.game.observe(), {}
+
+    def step(
+        self, actions: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if not self._ready:
+            raise RuntimeError("call reset() before step()")
+        actions = check_action(actions, self.action_space.shape)
+        reward, terminated, info = self.game.shoot(self._all, actions)
+        self._moves += 1
+        truncated = np.zeros(self.num_envs, dtype=bool)
+        if self.max_episode_steps is not None:
+            truncated = (self._moves >= self.max_episode_steps) & ~terminated
+        observations = self.game.observe()
+        infos: dict[str, Any] = {}
+        done = terminated | truncated
+        if done.any():
+            ended = np.flatnonzero(done)
+            final_obs = np.full(self.num_envs, None, dtype=object)
+            for i in ended:
+                final_obs[i] = observations[i]
+            infos["final_obs"], infos["_final_obs"] = final_obs, done.copy()
+            infos["final_info"] = _masked(info, done)
+            infos["_final_info"] = done.copy()
+            self.game.reset(ended)
+            self._moves[ended] = 0
+            observations[ended] = self.game.observe()[ended]
+        infos.update(_masked(info, ~done))
+        return observations, reward, terminated, truncated, infos
+
+    def render(self) -> tuple[np.ndarray, ...] | None:
+        """``rgb_array``: one frame per world, as a tuple."""
+        if self.render_mode != "rgb_array":
+            return None
+        return tuple(self._frames.frame(i) for i in range(self.num_envs))
+
+    def close_extras(self, **kwargs: Any) -> None:
+        self._frames.close()
+
+
+def _scalars(info: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Info of a batch of one as plain Python values."""
+    return {key: value[0].item() for key, value in info.items()}
+
+
+def _masked(info: dict[str, np.ndarray], mask: np.ndarray) -> dict[str, np.ndarray]:
+    """Gymnasium's vector info layout: each key with a ``_key`` mask of the envs it holds."""
+    out: dict[str, np.ndarray] = {}
+    for key, value in info.items():
+        out[key] = np.where(mask, value, np.zeros_like(value))
+        out[f"_{key}"] = mask.copy()
+    return out

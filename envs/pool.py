@@ -1,0 +1,409 @@
+"""Pool2D-v0: top-down pool on a regulation 9-ft table, one cue stroke per step."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import impulse2d as p2
+from impulse2d import _checks
+from impulse2d import _raster as raster
+from impulse2d.render import Camera, Renderer, Style
+
+from ._core import Info, ShotGame
+from ._gym import ShotEnv, ShotVectorEnv
+
+# -- the table: published constants, SI units (pooltool's and the WPA's figures) --------------
+TABLE_LENGTH = 2.54  # play area along x (m), centred on the origin
+TABLE_WIDTH = 1.27  # along y (m)
+BALL_RADIUS = 0.028575  # m (2.25 in)
+BALL_MASS = 0.170  # kg
+RESTITUTION_BALL = 0.95  # ball-ball
+RESTITUTION_CUSHION = 0.75  # ball-cushion; the world mixes restitution by min
+FRICTION_BALL = 0.06  # ball-ball (a little throw on cut shots)
+FRICTION_CUSHION = 0.2  # mixed by sqrt: ball-cushion sqrt(0.06 * 0.2) = 0.11
+ROLLING_RESISTANCE = 0.1  # m/s^2: rolling-resistance coefficient 0.01 times g
+SPIN_DRAG = 3.0  # 1/s: decay of the sideways spin (about the vertical axis) on the cloth
+CORNER_MOUTH = 0.118  # m, between the cushion noses, measured across the pocket
+SIDE_MOUTH = 0.137  # m
+CUSHION_THICKNESS = 0.05  # m (only its face matters)
+HEAD_SPOT = (-TABLE_LENGTH / 4, 0.0)  # where a potted cue ball goes back
+FOOT_SPOT = (TABLE_LENGTH / 4, 0.0)  # the rack's apex
+SPEED_RANGE = (0.25, 6.0)  # cue-ball speed (m/s) at action[1] = -1 and +1
+DT = 1.0 / 120.0  # physics step (s)
+# Colours: the cue ball, then object balls 1..15 (the stripes 9..15 drawn as their solids).
+_SOLIDS = [
+    (235, 200, 40),
+    (40, 80, 200),
+    (210, 40, 40),
+    (110, 40, 150),
+    (240, 120, 30),
+    (30, 130, 70),
+    (130, 30, 40),
+]
+BALL_COLOURS = [(240, 240, 232), *_SOLIDS, (20, 20, 20), *_SOLIDS]
+
+
+def pockets() -> tuple[np.ndarray, np.ndarray]:
+    """Centres (6, 2) and radii (6,) of the pocket circles: a ball is potted when its
+    centre enters one. Each circle is as wide as its mouth and sits one ball radius
+    beyond the mouth's midpoint, so a ball whose centre crosses the mouth line between
+    the jaws drops in, and one that only grazes a jaw stays out."""
+    half_l, half_w, r = TABLE_LENGTH / 2, TABLE_WIDTH / 2, BALL_RADIUS
+    cut = CORNER_MOUTH / math.sqrt(2.0)  # each rail stops this far from the corner
+    centres, radii = [], []
+    for sx in (-1.0, 1.0):
+        for sy in (-1.0, 1.0):
+            mid = np.array([sx * (half_l - cut / 2), sy * (half_w - cut / 2)])
+            centres.append(mid + r * np.array([sx, sy]) / math.sqrt(2.0))
+            radii.append(CORNER_MOUTH / 2)
+    for sy in (-1.0, 1.0):
+        centres.append(np.array([0.0, sy * (half_w + r)]))
+        radii.append(SIDE_MOUTH / 2)
+    return np.array(centres), np.array(radii)
+
+
+def cushions() -> list[tuple[float, float, float, float]]:
+    """The six cushions as fixed boxes ``(x, y, width, height)``, each ending at its jaws."""
+    half_l, half_w, t = TABLE_LENGTH / 2, TABLE_WIDTH / 2, CUSHION_THICKNESS
+    cut = CORNER_MOUTH / math.sqrt(2.0)
+    long = half_l - cut - SIDE_MOUTH / 2  # each long rail is split by its side pocket
+    boxes = []
+    for sy in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            boxes.append((sx * (SIDE_MOUTH / 2 + long / 2), sy * (half_w + t / 2), long, t))
+    for sx in (-1.0, 1.0):
+        boxes.append((sx * (half_l + t / 2), 0.0, t, 2 * (half_w - cut)))
+    return boxes
+
+
+def rack_positions() -> np.ndarray:
+    """The 15-ball triangle (15, 2), apex on the foot spot, rows away from the cue ball.
+    Balls sit 0.1 mm apart so the rack starts without overlaps."""
+    spacing = 2 * BALL_RADIUS + 1e-4
+    rows = [
+        (FOOT_SPOT[0] + row * spacing * math.sqrt(3) / 2, (k - row / 2) * spacing)
+        for row in range(5)
+        for k in range(row + 1)
+    ]
+    return np.array(rows)
+
+
+class PoolGame(ShotGame):
+    """Pool on ``batch_size`` tables at once (see ``Pool2DEnv`` for the rules)."""
+
+    def __init__(
+        self,
+        batch_size: int = 1,
+        num_balls: int = 15,
+        layout: str | None = None,
+        max_shot_seconds: float = 20.0,
+    ) -> None:
+        super().__init__(batch_size)
+        if isinstance(num_balls, bool) or not isinstance(num_balls, (int, np.integer)):
+            raise ValueError(f"num_balls must be an int in [1, 15], got {num_balls!r}")
+        if not 1 <= num_balls <= 15:
+            raise ValueError(f"num_balls must be in [1, 15], got {num_balls}")
+        self.num_balls = int(num_balls)
+        if layout is None:
+            layout = "rack" if num_balls == 15 else "random"
+        self.layout = _checks.choice("layout", layout, ("rack", "random"))
+        self.dt = DT
+        self.max_shot_steps = max(
+            1, round(_checks.positive("max_shot_seconds", max_shot_seconds) / DT)
+        )
+        self.world, self.balls = self._build(batch_size)
+        self.template, self._template_balls = self._build(1)
+        self.pocket_centres, self.pocket_radii = pockets()
+        count = self.num_balls + 1
+        self.potted = np.zeros((batch_size, count), dtype=bool)
+        self._potted_before = self.potted.copy()
+        self._touched = np.zeros(batch_size, dtype=bool)
+        self.observation_low = np.tile(np.array([-1.0, -1.0, 0.0], np.float32), count)
+        self.observation_high = np.ones(3 * count, np.float32)
+
+    def _build(self, batch: int) -> tuple[p2.World, list[p2.Circle]]:
+        world = p2.World(
+            gravity=(0.0, 0.0),
+            batch_size=batch,
+            substeps=2,
+            restitution_mixing="min",
+            restitution_threshold=0.02,  # m/s: gentle kisses still bounce
+            sleep_speed=0.01,
+            time_to_sleep=0.1,
+        )
+        balls = [
+            world.add(
+                p2.Circle(
+                    position=(0.0, 0.0),
+                    radius=BALL_RADIUS,
+                    mass=BALL_MASS,
+                    restitution=RESTITUTION_BALL,
+                    friction=FRICTION_BALL,
+                    angular_drag=SPIN_DRAG,
+                    rolling_resistance=ROLLING_RESISTANCE,
+                )
+            )
+            for _ in range(self.num_balls + 1)
+        ]
+        for x, y, w, h in cushions():
+            world.add(
+                p2.Box(
+                    position=(x, y),
+                    width=w,
+                    height=h,
+                    fixed=True,
+                    restitution=RESTITUTION_CUSHION,
+                    friction=FRICTION_CUSHION,
+                )
+            )
+        return world, balls
+
+    # -- episodes ----------------------------------------------------------------------------------
+    def _new_episode(self, world: int, rng: np.random.Generator) -> None:
+        positions = self._layout(rng)
+        for ball, position in zip(self._template_balls, positions, strict=True):
+            ball.position = position
+            ball.velocity = (0.0, 0.0)
+            ball.angular_velocity = 0.0
+            ball.angle = 0.0
+            ball.enabled = True
+        self.template.stop()  # every ball asleep: the first stroke wakes what it touches
+        self._install(world)
+        self.potted[world] = False
+
+    def _layout(self, rng: np.random.Generator) -> np.ndarray:
+        """Start positions (cue ball first): the rack (its first ``num_balls`` balls) with
+        the cue ball anywhere behind the head string, or every ball at random."""
+        r = BALL_RADIUS
+        half_l, half_w = TABLE_LENGTH / 2 - 2 * r, TABLE_WIDTH / 2 - 2 * r
+        placed: list[np.ndarray] = []
+        if self.layout == "rack":
+            placed = list(rack_positions()[: self.num_balls])
+            cue = self._free_spot(rng, placed, (-half_l, HEAD_SPOT[0]), (-half_w, half_w))
+            return np.array([cue, *placed])
+        for _ in range(self.num_balls + 1):
+            placed.append(self._free_spot(rng, placed, (-half_l, half_l), (-half_w, half_w)))
+        return np.array(placed)
+
+    def _free_spot(
+        self, rng: np.random.Generator, placed: list, xs: tuple, ys: tuple
+    ) -> np.ndarray:
+        """A uniform random point in the box ``xs x ys`` clear of the balls in ``placed``
+        (1 mm gap) and of the pockets."""
+        centres, radii = self.pocket_centres, self.pocket_radii
+        others = np.array(placed).reshape(-1, 2)
+        while True:
+            point = np.array([rng.uniform(*xs), rng.uniform(*ys)])
+            clear = np.all(np.hypot(*(others - point).T) > 2 * BALL_RADIUS + 1e-3)
+            if clear and np.all(np.hypot(*(centres - point).T) > radii + 2 * BALL_RADIUS):
+                return point
+
+    # -- a shot ------------------------------------------------------------------------------------
+    def _launch(self, worlds: np.ndarray, actions: np.ndarray) -> None:
+        """``actions[:, 0]``: direction, angle ``pi * a`` from +x; ``actions[:, 1]``:
+        speed, mapped linearly onto ``SPEED_RANGE``. An impulse ``m v`` on the cue ball."""
+        lo, hi = SPEED_RANGE
+        angle = math.pi * actions[:, 0]
+        speed = lo + 0.5 * (actions[:, 1] + 1.0) * (hi - lo)
+        impulse = np.zeros((self.batch_size, 2))
+        impulse[worlds, 0] = BALL_MASS * speed * np.cos(angle)
+        impulse[worlds, 1] = BALL_MASS * speed * np.sin(angle)
+        self.balls[0].apply_impulse(impulse)
+        self._potted_before[worlds] = self.potted[worlds]
+        self._touched[worlds] = False
+
+    def _after_step(self, shooting: np.ndarray) -> None:
+        """Pot the moving balls whose centres entered a pocket (or, as a safeguard, left
+        the table past a cushion line), and note which cue balls have hit a ball."""
+        world = self.world
+        count = self.num_balls + 1
+        moving = world.array("awake")[:, :count] & world.array("enabled")[:, :count]
+        rows, slots = np.nonzero(moving)
+        if rows.size:
+            pose = world.array("pose")
+            x, y = pose[0][rows, slots], pose[1][rows, slots]
+            dx = x[:, None] - self.pocket_centres[:, 0]
+            dy = y[:, None] - self.pocket_centres[:, 1]
+            inside = (dx * dx + dy * dy < self.pocket_radii**2).any(axis=1)
+            inside |= np.abs(x) > TABLE_LENGTH / 2 + BALL_RADIUS
+            inside |= np.abs(y) > TABLE_WIDTH / 2 + BALL_RADIUS
+            if inside.any():
+                self._pot(rows[inside], slots[inside])
+        if not self._touched[shooting].all():
+            w, a, b, _ = world.touches()
+            cue_hit = ((a == 0) & (b >= 1) & (b < count)) | ((b == 0) & (a >= 1) & (a < count))
+            self._touched[w[cue_hit]] = True
+
+    def _pot(self, rows: np.ndarray, slots: np.ndarray) -> None:
+        self.potted[rows, slots] = True
+        for slot in np.unique(slots):
+            ball = self.balls[slot]
+            ball.enabled = ball.enabled & ~np.isin(np.arange(self.batch_size), rows[slots == slot])
+
+    def _score(self, worlds: np.ndarray, steps: np.ndarray) -> tuple[np.ndarray, np.ndarray, Info]:
+        new = self.potted[worlds] & ~self._potted_before[worlds]
+        objects = new[:, 1:].sum(axis=1)
+        scratch = new[:, 0]
+        no_touch = ~self._touched[worlds]
+        if scratch.any():
+            self._respot(worlds[scratch])
+        reward = objects - 1.0 * scratch - 0.1 * no_touch
+        left = (~self.potted[worlds, 1:]).sum(axis=1)
+        info = {
+            "potted": objects.astype(np.int64),
+            "cue_potted": scratch,
+            "no_touch": no_touch,
+            "fouls": scratch.astype(np.int64) + no_touch,
+            "balls_left": left.astype(np.int64),
+            "physics_steps": steps,
+        }
+        return reward.astype(np.float64), left == 0, info
+
+    def _respot(self, worlds: np.ndarray) -> None:
+        """Put potted cue balls back: on the head spot, or the nearest free point to it
+        behind the head string."""
+        cue = self.balls[0]
+        position, velocity = np.atleast_2d(cue.position), np.atleast_2d(cue.velocity)
+        enabled = np.atleast_1d(cue.enabled).copy()
+        pose = self.world.array("pose")
+        on = self.world.array("enabled")
+        for w in worlds:
+            live = np.flatnonzero(on[w, 1 : self.num_balls + 1]) + 1
+            others = np.stack([pose[0, w, live], pose[1, w, live]], axis=1)
+            position[w] = self._spot_near_head(others)
+        velocity[worlds] = 0.0
+        enabled[worlds] = True
+        cue.velocity, cue.position, cue.enabled = velocity, position, enabled
+        self.world.stop(worlds)
+        self.potted[worlds, 0] = False
+
+    @staticmethod
+    def _spot_near_head(others: np.ndarray) -> np.ndarray:
+        step = BALL_RADIUS
+        for radius in range(0, 40):
+            for k in range(max(1, 8 * radius)):
+                angle = 2 * math.pi * k / max(1, 8 * radius)
+                point = np.array(HEAD_SPOT) + radius * step * np.array(
+                    [math.cos(angle), math.sin(angle)]
+                )
+                if np.all(np.hypot(*(others - point).T) > 2 * BALL_RADIUS + 1e-3):
+                    return point
+        raise RuntimeError("no free spot for the cue ball")  # 15 balls cannot cover the area
+
+    # -- observation and pictures ------------------------------------------------------------------
+    def observe(self) -> np.ndarray:
+        count = self.num_balls + 1
+        pose = self.world.array("pose")
+        obs = np.zeros((self.batch_size, count, 3), np.float32)
+        obs[:, :, 0] = np.clip(pose[0, :, :count] / (TABLE_LENGTH / 2), -1.0, 1.0)
+        obs[:, :, 1] = np.clip(pose[1, :, :count] / (TABLE_WIDTH / 2), -1.0, 1.0)
+        obs[self.potted] = (0.0, 0.0, 1.0)
+        return obs.reshape(self.batch_size, -1)
+
+    def make_renderer(self, width: int, height: int) -> Renderer:
+        margin = CUSHION_THICKNESS + 0.03
+        view = (
+            -TABLE_LENGTH / 2 - margin,
+            -TABLE_WIDTH / 2 - margin,
+            TABLE_LENGTH / 2 + margin,
+            TABLE_WIDTH / 2 + margin,
+        )
+        style = Style(
+            background=(40, 28, 22),
+            fixed=(22, 96, 58),
+            body_colours={ball.slot: BALL_COLOURS[i] for i, ball in enumerate(self.balls)},
+        )
+        return Renderer(
+            width, height, Camera.fit_view(view, width, height), style, underlay=self._cloth
+        )
+
+    def _cloth(self, canvas: np.ndarray, renderer: Renderer) -> None:
+        """The cloth and the pockets, under everything."""
+        x0, y0 = renderer.to_pixels(-TABLE_LENGTH / 2, TABLE_WIDTH / 2)
+        x1, y1 = renderer.to_pixels(TABLE_LENGTH / 2, -TABLE_WIDTH / 2)
+        raster.box(
+            canvas,
+            (x0 + x1) / 2,
+            (y0 + y1) / 2,
+            0.0,
+            (x1 - x0) / 2,
+            (y1 - y0) / 2,
+            np.array((30, 120, 70), np.float32),
+        )
+        scale = renderer.camera.pixels_per_metre
+        for (cx, cy), radius in zip(self.pocket_centres, self.pocket_radii, strict=True):
+            px, py = renderer.to_pixels(cx, cy)
+            raster.disc(canvas, px, py, radius * scale, np.array((8, 8, 8), np.float32))
+
+
+class Pool2DEnv(ShotEnv):
+    """Top-down pool: one step is one cue stroke, played until every ball is at rest.
+
+    ## Description
+    A regulation 9-ft table (play area 2.54 x 1.27 m) with six pockets (corner mouths
+    0.118 m, side mouths 0.137 m) and cushions that end at the pocket jaws. The balls
+    have the published size and mass (radius 28.575 mm, 0.170 kg); ball-ball restitution
+    0.95, ball-cushion 0.75; they roll to a stop under a rolling resistance of 0.1 m/s^2
+    (coefficient 0.01). Seen from above the balls are discs: sliding versus rolling, and
+    cue-ball spin (follow, draw, english), are not modelled. A ball is potted when its
+    centre enters a pocket circle (as wide as the mouth, one ball radius behind it).
+
+    ## Action Space
+    `Box(-1, 1, (2,), float32)`: `action[0]` sets the cue direction, angle `pi * action[0]`
+    from the +x axis (the foot of the table); `action[1]` sets the cue-ball speed, mapped
+    linearly from 0.25 m/s (at -1) to 6 m/s (at +1). Values outside [-1, 1] are clipped;
+    NaN or infinite values raise `ValueError`.
+
+    ## Observation Space
+    `Box(low, high, (3 * (num_balls + 1),), float32)`, three numbers per ball, the cue
+    ball first, then object balls 1, 2, ...; potted balls stay in the vector:
+
+    | index       | observation                             | min | max |
+    |-------------|-----------------------------------------|-----|-----|
+    | 3 i         | x of ball i / 1.27 m (0 when potted)    | -1  | 1   |
+    | 3 i + 1     | y of ball i / 0.635 m (0 when potted)   | -1  | 1   |
+    | 3 i + 2     | 1 if ball i is potted, else 0           | 0   | 1   |
+
+    ## Rewards
+    +1 per object ball potted; -1 if the cue ball is potted (a scratch: it comes back on
+    the head spot, or the nearest free point to it); -0.1 if the cue ball touches no ball.
+
+    ## Starting State
+    `layout="rack"`: the object balls in the standard triangle (apex on the foot spot;
+    with fewer balls, its first rows), the cue ball at a uniform random point behind the
+    head string. `layout="random"`: every ball at a uniform random point on the table,
+    clear of the others and of the pockets.
+
+    ## Episode End
+    Terminated when every object ball is potted. Truncated after 30 shots
+    (`max_episode_steps`; a shot itself stops after `max_shot_seconds` of simulated time).
+
+    `info`: `potted` (object balls potted this shot), `cue_potted`, `no_touch`, `fouls`
+    (the two counted), `balls_left`, `physics_steps` (engine steps of the shot at
+    dt = 1/120 s).
+
+    ## Arguments
+    ```python
+    gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, render_mode=None)
+    gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point")
+    ```
+    * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
+      pot from anywhere, is the natural first task for learning.
+    * `layout`: `"rack"` or `"random"`; default `"rack"` for 15 balls, else `"random"`.
+    * `max_shot_seconds`: simulated time after which a shot is stopped where it stands.
+    * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
+      (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window).
+
+    ## Version History
+    * v0: first version.
+    """
+
+    game_class = PoolGame
+
+
+class Pool2DVectorEnv(ShotVectorEnv):
+    """``num_envs`` Pool2D tables stepped in one batched engine (see ``Pool2DEnv``)."""
+
+    game_class = PoolGame
