@@ -85,6 +85,12 @@ class ShotGame:
         """A renderer set up to draw this game (camera, colours, decorations)."""
         raise NotImplementedError
 
+    def drag_action(self, world: int, start: Any, end: Any) -> np.ndarray:
+        """The action a person means by dragging the mouse from ``start`` to ``end`` (world
+        coordinates, m) in world ``world``: how ``python -m impulse2d.play`` turns a drag
+        into a move. Returns a float64 action in [-1, 1]."""
+        raise NotImplementedError
+
     # -- the game loop --------------------------------------------------------------------------
     @property
     def observation_size(self) -> int:

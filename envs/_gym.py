@@ -170,7 +170,9 @@ class ShotVectorEnv(gym.vector.VectorEnv):
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
+        # Gymnasium's base class seeds ``self.np_random`` from one int; the envs' own
+        # generators come from the seeds below.
+        super().reset(seed=seed if isinstance(seed, (int, np.integer)) else None)
         if seed is None:
             seeds: list[int | None] = [None] * self.num_envs
         elif isinstance(seed, (int, np.integer)):
@@ -205,7 +207,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             ended = np.flatnonzero(done)
             final_obs = np.full(self.num_envs, None, dtype=object)
             for i in ended:
-                final_obs[i] = observations[i]
+                final_obs[i] = observations[i].copy()  # the row is overwritten by the reset
             infos["final_obs"], infos["_final_obs"] = final_obs, done.copy()
             infos["final_info"] = _masked(info, done)
             infos["_final_info"] = done.copy()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -291,6 +292,16 @@ class PoolGame(ShotGame):
                 if np.all(np.hypot(*(others - point).T) > 2 * BALL_RADIUS + 1e-3):
                     return point
         raise RuntimeError("no free spot for the cue ball")  # 15 balls cannot cover the area
+
+    def drag_action(self, world: int, start: Any, end: Any) -> np.ndarray:
+        """The tutorial's cue stick: the drag from press to release is the stroke. Its
+        direction is the shot's, and its length sets the speed, full speed at half the
+        table's width (0.635 m). A drag shorter than 1 mm is the gentlest stroke."""
+        stroke = np.asarray(end, np.float64) - np.asarray(start, np.float64)
+        length = float(np.hypot(*stroke))
+        angle = math.atan2(stroke[1], stroke[0]) if length > 1e-3 else 0.0
+        power = min(length / (TABLE_WIDTH / 2), 1.0)
+        return np.array([angle / math.pi, 2.0 * power - 1.0])
 
     # -- observation and pictures ------------------------------------------------------------------
     def observe(self) -> np.ndarray:

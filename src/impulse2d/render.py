@@ -206,6 +206,17 @@ class Renderer:
         camera (for decorations)."""
         return self._px(x, y)
 
+    def to_world(self, px: float, py: float) -> np.ndarray:
+        """The world point (m) drawn at pixel ``(px, py)``: the inverse of ``to_pixels``
+        (for mouse input)."""
+        s = self.camera.pixels_per_metre
+        return np.array(
+            [
+                (px - 0.5 * self.width) / s + self.camera.center[0],
+                (0.5 * self.height - py) / s + self.camera.center[1],
+            ]
+        )
+
     def _px(self, x: float, y: float) -> tuple[float, float]:
         s = self.camera.pixels_per_metre
         return (

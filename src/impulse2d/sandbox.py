@@ -93,14 +93,7 @@ class Sandbox:
 
     # -- input -------------------------------------------------------------------------------
     def world_point(self, pixel: tuple[float, float]) -> np.ndarray:
-        camera = self.renderer.camera
-        s = camera.pixels_per_metre
-        return np.array(
-            [
-                (pixel[0] - 0.5 * self.width) / s + camera.center[0],
-                (0.5 * self.height - pixel[1]) / s + camera.center[1],
-            ]
-        )
+        return self.renderer.to_world(*pixel)
 
     def handle(self, event: Any) -> bool:
         """React to one pygame event; returns False when the user asked to quit."""

@@ -246,15 +246,23 @@ class World(SlotStore, SnapshotMixin, StepStages):
         b.flat("island")[dynamic] = dynamic  # each its own island: any touch wakes it alone
         self._touch()
 
-    def impulses(self) -> Any:
+    def impulses(self, approach_speed: float = 0.0) -> Any:
         """The contact impulse each body received in the last step (N s): the sum over its
         contact points of the normal impulses, shape ``(slots,)`` or ``(batch, slots)``
-        (index by ``body.slot``). Games use it for damage: how hard was it hit."""
+        (index by ``body.slot``). Games use it for damage: how hard was it hit.
+
+        ``approach_speed`` (m/s) keeps only the points whose bodies were closing faster
+        than that along the normal at the start of the step: impacts, not the steady
+        push of a resting stack (whose points close at no more than about ``g dt``)."""
+        approach_speed = _checks.non_negative("approach_speed", approach_speed)
         total = np.zeros(self._batch * self._bodies.capacity)
         contacts = self.last_contacts
         if contacts is not None and contacts.size:
-            np.add.at(total, contacts.body_a, contacts.step_impulse)
-            np.add.at(total, contacts.body_b, contacts.step_impulse)
+            impulse = contacts.step_impulse
+            if approach_speed > 0.0:
+                impulse = np.where(contacts.relative_velocity < -approach_speed, impulse, 0.0)
+            np.add.at(total, contacts.body_a, impulse)
+            np.add.at(total, contacts.body_b, impulse)
         total = total.reshape(self._batch, -1)
         return total[0] if self._batch == 1 else total
 

@@ -1,0 +1,135 @@
+"""Scripted players for both games, from the observation alone, as yardsticks for learning.
+
+* ``pool_ghost_ball(obs)``: for every object ball and pocket, the "ghost ball" method: the
+  cue ball must arrive where it touches the object ball on the line from the pocket
+  through that ball, at ``object - 2 r * unit(pocket - object)``. The shot with the
+  smallest cut angle whose two paths are clear of other balls is taken, at the speed that
+  brings the object ball to the pocket with some to spare.
+* ``slingshot_ballistic(obs)``: the launch angle that puts the bird through the nearest
+  pig's centre, from the drag-free projectile equation, at full speed.
+
+Both take one observation or a batch (rows) and return actions in [-1, 1] (float32), so
+they drive a single env, a vector env or the SB3 adapter alike::
+
+    obs, info = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(pool_ghost_ball(obs))
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from . import pool, slingshot
+
+GRAVITY = 9.81
+
+
+def pool_ghost_ball(observation: Any) -> np.ndarray:
+    """Ghost-ball shots for Pool2D observations, shape ``(2,)`` or ``(n, 2)``."""
+    return _rows(observation, _pool_row)
+
+
+def slingshot_ballistic(observation: Any, arc: str = "low") -> np.ndarray:
+    """Ballistic launches for Slingshot2D observations, shape ``(2,)`` or ``(n, 2)``.
+    ``arc``: the ``"low"`` (direct) or ``"high"`` (lobbed) of the two solutions."""
+    if arc not in ("low", "high"):
+        raise ValueError(f"arc must be 'low' or 'high', got {arc!r}")
+    return _rows(observation, lambda row: _slingshot_row(row, arc == "high"))
+
+
+def _rows(observation: Any, act: Any) -> np.ndarray:
+    obs = np.asarray(observation, np.float64)
+    if obs.ndim not in (1, 2):
+        raise ValueError(f"observation must be one vector or a batch of rows, got {obs.shape}")
+    actions = np.array([act(row) for row in np.atleast_2d(obs)], np.float32)
+    return actions[0] if obs.ndim == 1 else actions
+
+
+# -- pool ------------------------------------------------------------------------------------
+def _pool_row(row: np.ndarray) -> np.ndarray:
+    balls = row.reshape(-1, 3)
+    xy = balls[:, :2] * (pool.TABLE_LENGTH / 2, pool.TABLE_WIDTH / 2)
+    cue, on_table = xy[0], balls[:, 2] < 0.5
+    targets = np.flatnonzero(on_table[1:]) + 1
+    r = pool.BALL_RADIUS
+    best: tuple[float, np.ndarray, float] | None = None
+    pockets, _ = pool.pockets()
+    for i in targets:
+        obstacle = on_table.copy()
+        obstacle[[0, i]] = False  # the cue ball and the target are not in the way
+        others = xy[obstacle]
+        for pocket in pockets:
+            to_pocket = pocket - xy[i]
+            run = float(np.hypot(*to_pocket))
+            ghost = xy[i] - 2 * r * to_pocket / run
+            aim = ghost - cue
+            reach = float(np.hypot(*aim))
+            if reach < 1e-9:
+                continue
+            cut = math.acos(np.clip(np.dot(aim, to_pocket) / (reach * run), -1.0, 1.0))
+            if cut > math.radians(70):
+                continue
+            if not (_clear(cue, ghost, others, 2 * r) and _clear(xy[i], pocket, others, 2 * r)):
+                continue
+            score = math.cos(cut) ** 2 / (1.0 + reach + run)
+            if best is None or score > best[0]:
+                best = (score, aim, _pool_speed(reach, run, cut))
+    if best is None:  # nothing clear: hit the nearest ball full on, firmly
+        if targets.size == 0:
+            return np.zeros(2)
+        nearest = targets[np.argmin(np.hypot(*(xy[targets] - cue).T))]
+        aim, speed = xy[nearest] - cue, 3.0
+    else:
+        _, aim, speed = best
+    lo, hi = pool.SPEED_RANGE
+    return np.array(
+        [math.atan2(aim[1], aim[0]) / math.pi, np.clip(2 * (speed - lo) / (hi - lo) - 1, -1, 1)]
+    )
+
+
+def _pool_speed(reach: float, run: float, cut: float) -> float:
+    """Cue-ball speed that gets the object ball to the pocket at 0.5 m/s: the object ball
+    leaves at ``(1 + e) / 2 * cos(cut)`` of the cue ball's speed at contact, and both roll
+    against a constant deceleration ``a`` (``v^2`` falls by ``2 a d`` over a distance d)."""
+    a = pool.ROLLING_RESISTANCE
+    leave = math.sqrt(0.5**2 + 2 * a * run)
+    contact = leave / ((1 + pool.RESTITUTION_BALL) / 2 * max(math.cos(cut), 0.2))
+    return math.sqrt(contact**2 + 2 * a * reach) * 1.2
+
+
+def _clear(start: np.ndarray, end: np.ndarray, balls: np.ndarray, gap: float) -> bool:
+    """No ball centre within ``gap`` of the segment from ``start`` to ``end``."""
+    if balls.size == 0:
+        return True
+    d = end - start
+    length2 = float(d @ d)
+    t = np.clip(((balls - start) @ d) / max(length2, 1e-12), 0.0, 1.0)
+    closest = start + t[:, None] * d
+    return bool(np.all(np.hypot(*(balls - closest).T) > gap))
+
+
+# -- slingshot -------------------------------------------------------------------------------
+def _slingshot_row(row: np.ndarray, high: bool) -> np.ndarray:
+    slots = row[:-1].reshape(-1, slingshot.FEATURES)[: slingshot.MAX_PIGS]
+    alive = np.flatnonzero(slots[:, 0] > 0.5)
+    if alive.size == 0:
+        return np.zeros(2)
+    arena = slingshot.ARENA_X
+    x = slots[alive, 3] * (arena[1] - arena[0]) / 2 + (arena[0] + arena[1]) / 2
+    y = slots[alive, 4] * 10.0
+    k = int(np.argmin(x))
+    dx, dy = x[k] - slingshot.SLING[0], y[k] - slingshot.SLING[1]
+    speed = slingshot.SPEED_RANGE[1]
+    # y = x tan(t) - g x^2 / (2 v^2 cos^2 t), a quadratic in tan(t).
+    disc = speed**4 - GRAVITY * (GRAVITY * dx * dx + 2 * dy * speed**2)
+    if disc < 0 or dx <= 0:
+        angle = math.pi / 4
+    else:
+        root = math.sqrt(disc)
+        angle = math.atan((speed**2 + (root if high else -root)) / (GRAVITY * dx))
+    lo, hi = slingshot.ANGLE_RANGE
+    angle = min(max(angle, lo), hi)
+    return np.array([2 * (angle - lo) / (hi - lo) - 1, 1.0])

@@ -1,0 +1,336 @@
+"""Slingshot2D's rules and damage model against known answers: levels that stand without
+wearing themselves out, impact damage equal to the two-body collision impulse (a falling
+pig, a bird hitting a block of each material), the launch parabola, the rewards and the
+end of an episode, the ballistic player, the drag mapping and the observation. Scenarios
+are tiny levels given to ``SlingshotGame`` through its ``_pick_level`` hook."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from impulse2d.envs import _levels
+from impulse2d.envs._levels import MATERIALS, PIG_HEALTH, PIG_MASS, PIG_RADIUS, SQUARE, Level
+from impulse2d.envs.baselines import slingshot_ballistic
+from impulse2d.envs.slingshot import (
+    ARENA_X,
+    BIRD_MASS,
+    BIRD_RADIUS,
+    DT,
+    FEATURES,
+    FULL_PULL,
+    IMPACT_SPEED,
+    MAX_PIGS,
+    SLING,
+    SPEED_RANGE,
+    SlingshotGame,
+)
+
+G = 9.81
+WORLD = np.array([0])
+ON_GROUND = PIG_RADIUS + _levels.GAP  # a pig's centre height resting on the ground
+BIRD_E, PIG_E, GROUND_E = 0.3, 0.2, 0.1  # restitutions set in SlingshotGame._build
+UP_SLOWEST = np.array([[1.0, -1.0]])  # straight up at 6 m/s: the bird lands back at x = 0
+
+
+def _game(level: Level, num_birds: int = 3) -> SlingshotGame:
+    """A one-world game playing ``level``."""
+    game = SlingshotGame(1, level="table", num_birds=num_birds)
+    game._pick_level = lambda rng: level
+    game.seed([0], [0])
+    game.reset([0])
+    return game
+
+
+def _settle(game: SlingshotGame, steps: int | None = None) -> None:
+    """Step with the game's damage rule, ``steps`` times or (None) until at rest."""
+    if steps is None:
+        game._run(WORLD)
+        return
+    for _ in range(steps):
+        game.world.step(DT)
+        game._after_step(np.ones(1, dtype=bool))
+
+
+# -- levels at rest --------------------------------------------------------------------------
+@pytest.mark.parametrize("name", list(_levels.HANDMADE))
+def test_handmade_level_stands_without_damage(name):
+    """Every body of a hand-made level woken and left 3 s without a bird: the 2 mm gaps
+    close at under IMPACT_SPEED, so no health is lost and nothing is destroyed, and
+    nothing drifts more than 3 cm (the stacks settle by their gaps, 2 mm per layer)."""
+    game = SlingshotGame(1, level=name)
+    game.seed([0], [0])
+    game.reset([0])
+    health, alive = game.health.copy(), game.alive.copy()
+    start = game.world.array("pose").copy()
+    game.world.gravity = game.world.gravity  # setting gravity wakes every body
+    assert game.world.array("awake")[0, game._targets][alive[0]].all()
+    _settle(game, round(3.0 / DT))
+    np.testing.assert_array_equal(game.health, health)
+    np.testing.assert_array_equal(game.alive, alive)
+    pose = game.world.array("pose")
+    slots = game._targets[alive[0]]
+    drift = np.hypot(pose[0, 0, slots] - start[0, 0, slots], pose[1, 0, slots] - start[1, 0, slots])
+    assert drift.max() < 0.03
+
+
+# -- damage: the impulse of the impact --------------------------------------------------------
+def _drop(height: float) -> tuple[SlingshotGame, float]:
+    """A pig released with its lowest point ``height`` above the ground, until at rest;
+    returns the game and the health it lost."""
+    game = _game(Level("drop", pigs=[(5.0, height + PIG_RADIUS)]))
+    game.pigs[0].wake()  # the level starts asleep: a pig in mid-air would stay there
+    _settle(game)
+    return game, PIG_HEALTH - game.health[0, 0]
+
+
+def _pig_ground_impulse(height: float) -> float:
+    """m v (1 + e), v = sqrt(2 g h): the impulse of a pig landing on the fixed ground,
+    e = max(pig 0.2, ground 0.1) = 0.2 by the world's restitution mixing."""
+    return PIG_MASS * math.sqrt(2 * G * height) * (1 + max(PIG_E, GROUND_E))
+
+
+@pytest.mark.parametrize("height", [0.2, 0.3])
+def test_falling_pig_loses_the_impact_impulse(height):
+    """A pig dropped h = 0.2 or 0.3 m loses m v (1 + e) of health (7.1 and 8.7 N s).
+    The contact is made on the step the pig arrives, at up to g dt = 0.16 m/s more than
+    v (2-8 % of v): 10 % is allowed (measured: 0.1 % and 1.6 %). It bounces back at
+    e v < IMPACT_SPEED, so there is no second hit."""
+    game, lost = _drop(height)
+    assert game.world.restitution_mixing == "max"
+    assert PIG_E * math.sqrt(2 * G * height) < IMPACT_SPEED
+    assert lost == pytest.approx(_pig_ground_impulse(height), rel=0.10)
+    assert game.alive[0, 0] and game.pigs[0].enabled
+
+
+def _height_for(impulse: float) -> float:
+    """The drop height whose landing delivers ``impulse`` (N s)."""
+    v = impulse / (PIG_MASS * (1 + PIG_E))
+    return v * v / (2 * G)
+
+
+def test_short_fall_is_survived_and_long_fall_kills():
+    """A drop delivering 0.8 PIG_HEALTH (h = 0.25 m) leaves the pig alive with about a
+    fifth of its health; one delivering 1.25 PIG_HEALTH (h = 0.61 m) destroys it: it is
+    no longer alive and is disabled."""
+    low, high = _height_for(0.8 * PIG_HEALTH), _height_for(1.25 * PIG_HEALTH)
+    game, lost = _drop(low)
+    assert game.alive[0, 0] and game.pigs[0].enabled
+    assert game.health[0, 0] == pytest.approx(0.2 * PIG_HEALTH, abs=0.1 * PIG_HEALTH)
+    game, lost = _drop(high)
+    assert not game.alive[0, 0] and not game.pigs[0].enabled
+    assert lost >= PIG_HEALTH
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="The docs (PIG_HEALTH's comment in envs/_levels.py, 'a fall from 0.5 m onto the "
+    "ground (about 10 N s) is just survivable', and Slingshot2DEnv's 'a pig falling 0.5 m "
+    "onto the ground takes about 10') leave out the bounce: the impact is m v (1 + e) = "
+    "3 * 3.13 * 1.2 = 11.3 N s (measured 11.26) > PIG_HEALTH = 10, and the pig is "
+    "destroyed. Fix: PIG_HEALTH = 12 (or say 0.35 m / 11 N s in the docs, and drop this "
+    "test).",
+)
+def test_documented_half_metre_fall_is_survivable():
+    """A pig falling 0.5 m survives, as documented."""
+    game, _ = _drop(0.5)
+    assert game.alive[0, 0]
+
+
+@pytest.mark.parametrize(
+    ("material", "speed", "breaks"),
+    [(0, 8.0, True), (1, 6.0, False), (1, 12.0, True), (2, 15.0, False)],
+    ids=["ice-8", "wood-6", "wood-12", "stone-15"],
+)
+def test_bird_hitting_a_block_deals_the_collision_impulse(material, speed, breaks):
+    """The bird (4 kg) hits a 0.4 m square block on the ground head-on at its centre
+    height: the block loses the two-body impulse J = (1 + e) m1 m2 / (m1 + m2) v, with
+    e = max(bird 0.3, block) = 0.3 (ice 6.4 kg: 25.6 N s at 8 m/s, health 12; wood
+    9.6 kg: 22.0 / 44.0 N s at 6 / 12 m/s, health 30; stone 24 kg: 66.9 N s at 15 m/s,
+    health 80). The bird starts in the air, 5 cm short and 5 mm high, so neither
+    friction nor an off-centre hit takes part: within 5 % (measured within 0.03 %).
+    Ice breaks, stone survives, wood survives the slow hit and breaks under the fast."""
+    kind = MATERIALS[material]
+    game = _game(
+        Level(
+            "block", blocks=[(8.0, SQUARE / 2, SQUARE, SQUARE, material)], pigs=[(15.0, ON_GROUND)]
+        )
+    )
+    bird = game.bird
+    bird.enabled = True
+    bird.position = (8.0 - SQUARE / 2 - BIRD_RADIUS - 0.05, SQUARE / 2 + 0.005)
+    bird.velocity = (speed, 0.0)
+    _settle(game, 30)
+    mass = kind.density * SQUARE * SQUARE
+    impulse = (1 + max(BIRD_E, kind.restitution)) * BIRD_MASS * mass / (BIRD_MASS + mass) * speed
+    k = MAX_PIGS  # the first block's slot in the game's arrays
+    assert kind.health - game.health[0, k] == pytest.approx(impulse, rel=0.05)
+    assert (impulse > kind.health) == breaks  # the speeds are chosen well clear of it
+    assert game.alive[0, k] == (not breaks)
+    assert game.blocks[0].enabled == (not breaks)
+    assert game.alive[0, 0]  # the pig far away is untouched
+
+
+# -- the launch ------------------------------------------------------------------------------
+@pytest.mark.parametrize("action", [(0.0, 0.0), (-0.5, 1.0), (0.6, -0.4)])
+def test_bird_flies_the_projectile_parabola(action):
+    """After a launch at angle theta (0-90 degrees, linear in a0) and speed v (6-20 m/s,
+    linear in a1) from the sling, the bird flies x = v cos(theta) t exactly and
+    y = 1.2 + v sin(theta) t - g t^2 / 2 within g h t / 2 (h = dt / substeps): the
+    integrator, semi-implicit Euler, lags the parabola by that much (0.85 mm per 0.1 s)."""
+    game = _game(Level("empty", pigs=[(18.0, ON_GROUND)]))
+    game._launch(WORLD, np.array([action]))
+    theta = (action[0] + 1) / 2 * (math.pi / 2)
+    v = SPEED_RANGE[0] + (action[1] + 1) / 2 * (SPEED_RANGE[1] - SPEED_RANGE[0])
+    np.testing.assert_array_equal(game.bird.position, SLING)
+    np.testing.assert_allclose(game.bird.velocity, [v * math.cos(theta), v * math.sin(theta)])
+    assert game.birds_left[0] == 2
+    h = DT / game.world.substeps
+    for step in range(1, 61):  # 1 s, or until it comes near the ground
+        game.world.step(DT)
+        t = step * DT
+        y = SLING[1] + v * math.sin(theta) * t - G * t * t / 2
+        if y < 2 * BIRD_RADIUS:
+            break
+        x_bird, y_bird = game.bird.position
+        assert x_bird == pytest.approx(SLING[0] + v * math.cos(theta) * t, abs=1e-9)
+        assert abs(y_bird - y) <= G * h * t / 2 + 1e-9
+
+
+# -- rewards and the end of an episode --------------------------------------------------------
+def _exits(num_birds: int = 3) -> SlingshotGame:
+    """Two pigs near the right edge of the arena and two ice blocks near its left edge,
+    set moving outwards by hand (the bird, launched straight up, touches none of them)."""
+    level = Level(
+        "exits",
+        blocks=[(-2.0, SQUARE / 2, SQUARE, SQUARE, 0), (-2.5, SQUARE / 2, SQUARE, SQUARE, 0)],
+        pigs=[(18.6, ON_GROUND), (18.2, ON_GROUND)],
+    )
+    game = _game(level, num_birds)
+    game.pigs[0].velocity = (5.0, 0.0)
+    for block in game.blocks[:2]:
+        block.velocity = (-6.0, 0.0)  # sliding on 0.49 friction: 3.7 m, past x = -3
+    return game
+
+
+def test_bodies_leaving_the_arena_are_destroyed_and_scored():
+    """Shot 1: a pig and two blocks slide out of the arena (x outside [-3, 19] m): each
+    is destroyed (disabled), +1 + 2 * 0.1 = 1.2, one pig left, not over. Shot 2: the
+    other pig rolls out: +1, and the level is cleared with one bird unused: +0.5, 1.5
+    in all, terminated."""
+    game = _exits()
+    reward, terminated, info = game.shoot(WORLD, UP_SLOWEST)
+    assert reward[0] == pytest.approx(1.2)
+    assert info["pigs_destroyed"][0] == 1 and info["blocks_destroyed"][0] == 2
+    assert info["pigs_left"][0] == 1 and info["birds_left"][0] == 2
+    assert not info["cleared"][0] and not terminated[0]
+    assert game.pigs[0].position[0] > ARENA_X[1] and not game.pigs[0].enabled
+    assert all(b.position[0] < ARENA_X[0] and not b.enabled for b in game.blocks[:2])
+    assert game.alive[0, 1] and game.pigs[1].enabled
+
+    game.pigs[1].velocity = (6.0, 0.0)
+    reward, terminated, info = game.shoot(WORLD, UP_SLOWEST)
+    assert reward[0] == pytest.approx(1.0 + 0.5 * 1)
+    assert info["pigs_destroyed"][0] == 1 and info["cleared"][0] and terminated[0]
+    assert info["pigs_left"][0] == 0 and info["birds_left"][0] == 1
+
+
+def test_running_out_of_birds_ends_the_episode():
+    """With one bird and a pig standing: the launch scores 0 and terminates (no bird
+    left, not cleared); a further shot launches nothing and runs no physics."""
+    game = _game(Level("one", pigs=[(10.0, ON_GROUND)]), num_birds=1)
+    reward, terminated, info = game.shoot(WORLD, UP_SLOWEST)
+    assert reward[0] == 0.0 and terminated[0]
+    assert info["birds_left"][0] == 0 and not info["cleared"][0] and info["pigs_left"][0] == 1
+    assert info["physics_steps"][0] > 60  # the bird was in the air for 1.2 s
+    reward, terminated, info = game.shoot(WORLD, UP_SLOWEST)
+    assert reward[0] == 0.0 and terminated[0] and info["physics_steps"][0] == 0
+    assert not game.bird.enabled
+
+
+def test_ballistic_player_clears_the_table_level():
+    """On level "table" the ballistic shot destroys the pig with the first bird: pigs 1,
+    the blocks it knocks down at 0.1 each, and 0.5 for each of the two birds left."""
+    game = SlingshotGame(1, level="table")
+    game.seed([0], [0])
+    game.reset([0])
+    reward, terminated, info = game.shoot(WORLD, slingshot_ballistic(game.observe()))
+    assert info["pigs_destroyed"][0] == 1 and info["cleared"][0] and terminated[0]
+    blocks = info["blocks_destroyed"][0]
+    assert reward[0] == pytest.approx(1.0 + 0.1 * blocks + 0.5 * 2)
+
+
+def test_ballistic_low_arc_passes_through_the_pig():
+    """For a lone pig on the ground at x = 10 m the low-arc launch's free flight (the pig
+    taken out of the way) passes within a pig radius of its centre (measured: 1 cm);
+    played for real, it destroys the pig: +1 and +0.5 for each of the two birds left."""
+    game = _game(Level("lone", pigs=[(10.0, ON_GROUND)]))
+    action = slingshot_ballistic(game.observe()[0]).astype(np.float64)
+    target = game.pigs[0].position
+    game.pigs[0].enabled = False
+    game._launch(WORLD, action[None])
+    closest = np.inf
+    for _ in range(120):
+        game.world.step(DT)
+        closest = min(closest, float(np.hypot(*(game.bird.position - target))))
+        if game.bird.position[0] > target[0] + 1.0:
+            break
+    assert closest < PIG_RADIUS
+
+    game.reset([0])
+    reward, terminated, info = game.shoot(WORLD, action[None])
+    assert reward[0] == pytest.approx(2.0) and terminated[0] and info["pigs_destroyed"][0] == 1
+
+
+# -- the drag of the play command -----------------------------------------------------------
+def test_drag_action_is_a_sling():
+    """Pulling back down-left by d sends the bird up-right, at 45 degrees (a0 = 0) and
+    at 6 + 14 d / FULL_PULL m/s; a pull of FULL_PULL or more is full speed (a1 = 1);
+    the angle clamps to [0, 90] degrees: a drag up-left (a launch down-right) flies
+    flat, a drag down-right (a launch up-left) straight up."""
+    game = _game(Level("empty", pigs=[(18.0, ON_GROUND)]))
+    pull = 1.0
+    action = game.drag_action(0, (0.0, 1.0), (-pull, 1.0 - pull))
+    length = pull * math.sqrt(2)
+    np.testing.assert_allclose(action, [0.0, 2 * length / FULL_PULL - 1], atol=1e-12)
+    game._launch(WORLD, action[None])
+    speed = SPEED_RANGE[0] + (SPEED_RANGE[1] - SPEED_RANGE[0]) * length / FULL_PULL
+    np.testing.assert_allclose(game.bird.velocity, [speed / math.sqrt(2)] * 2, rtol=1e-12)
+    for far in (FULL_PULL, 2 * FULL_PULL):
+        np.testing.assert_allclose(game.drag_action(0, (0, 0), (-far, 0)), [-1.0, 1.0])
+    assert game.drag_action(0, (0, 0), (-1.0, 1.0))[0] == -1.0  # -45 degrees -> 0
+    assert game.drag_action(0, (0, 0), (1.0, -1.0))[0] == 1.0  # 135 degrees -> 90
+    np.testing.assert_allclose(
+        game.drag_action(0, (0, 0), (0.0, -2.0)), [1.0, 2 * 2 / FULL_PULL - 1]
+    )
+
+
+# -- observations ----------------------------------------------------------------------------
+def test_observation_zeroes_destroyed_slots_and_counts_birds():
+    """Destroyed and unused slots read all zeros, the others are flagged alive with their
+    full features; the last number, birds left / num_birds, falls by 1/3 per shot."""
+    game = _exits()
+    obs = game.observe()[0]
+    assert obs.dtype == np.float32 and obs[-1] == 1.0
+    slots = obs[:-1].reshape(-1, FEATURES)
+    used = [0, 1, MAX_PIGS, MAX_PIGS + 1]
+    np.testing.assert_array_equal(slots[used, 0], 1.0)
+    np.testing.assert_array_equal(slots[used, 8], 1.0)  # full health
+    assert not np.delete(slots, used, axis=0).any()
+
+    game.shoot(WORLD, UP_SLOWEST)  # pig 0 and both blocks leave the arena
+    obs = game.observe()[0]
+    assert obs[-1] == pytest.approx(2 / 3)
+    slots = obs[:-1].reshape(-1, FEATURES)
+    assert not np.delete(slots, [1], axis=0).any()
+    pig = slots[1]
+    x, y = game.pigs[1].position
+    middle, half = sum(ARENA_X) / 2, (ARENA_X[1] - ARENA_X[0]) / 2
+    np.testing.assert_allclose(pig[:5], [1.0, 0.0, 0.0, (x - middle) / half, y / 10], atol=1e-6)
+    np.testing.assert_allclose(pig[6:], [PIG_RADIUS, PIG_RADIUS, 1.0], atol=1e-6)
+    assert np.all(obs >= game.observation_low) and np.all(obs <= game.observation_high)
+
+    game.shoot(WORLD, UP_SLOWEST)
+    assert game.observe()[0, -1] == pytest.approx(1 / 3)
