@@ -282,16 +282,26 @@ class PoolGame(ShotGame):
 
     @staticmethod
     def _spot_near_head(others: np.ndarray) -> np.ndarray:
-        step = BALL_RADIUS
-        for radius in range(0, 40):
-            for k in range(max(1, 8 * radius)):
-                angle = 2 * math.pi * k / max(1, 8 * radius)
-                point = np.array(HEAD_SPOT) + radius * step * np.array(
-                    [math.cos(angle), math.sin(angle)]
-                )
-                if np.all(np.hypot(*(others - point).T) > 2 * BALL_RADIUS + 1e-3):
-                    return point
-        raise RuntimeError("no free spot for the cue ball")  # 15 balls cannot cover the area
+        """The free point nearest the head spot on rings of growing radius (a quarter ball
+        radius apart), only behind the head string (x <= the head spot's) and on the
+        cloth; a ball touching no other ball, with 1 mm to spare."""
+        step = BALL_RADIUS / 4
+        x_min = -TABLE_LENGTH / 2 + BALL_RADIUS
+        y_max = TABLE_WIDTH / 2 - BALL_RADIUS
+        for ring in range(0, 200):
+            count = max(1, 16 * ring)
+            angle = 2 * math.pi * np.arange(count) / count
+            x = HEAD_SPOT[0] + ring * step * np.cos(angle)
+            y = HEAD_SPOT[1] + ring * step * np.sin(angle)
+            # Nearest to the table's long axis first, so the choice is symmetric and fixed.
+            order = np.argsort(np.abs(y), kind="stable")
+            for px, py in zip(x[order], y[order], strict=True):
+                if px > HEAD_SPOT[0] + 1e-12 or px < x_min or abs(py) > y_max:
+                    continue
+                if np.all(np.hypot(others[:, 0] - px, others[:, 1] - py) > 2 * BALL_RADIUS + 1e-3):
+                    return np.array([px, py])
+        # 15 balls cannot cover the 0.6 m x 1.2 m area behind the head string.
+        raise RuntimeError("no free spot for the cue ball")
 
     def drag_action(self, world: int, start: Any, end: Any) -> np.ndarray:
         """The tutorial's cue stick: the drag from press to release is the stroke. Its

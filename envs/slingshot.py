@@ -336,12 +336,12 @@ class Slingshot2DEnv(ShotEnv):
     | wood     | 60               | 0.6      | 30           |
     | stone    | 150              | 0.8      | 80           |
 
-    Pigs: radius 0.25 m, 3 kg, health 10 N s. The bird: radius 0.2 m, 4 kg. A pig or block
+    Pigs: radius 0.25 m, 3 kg, health 12 N s. The bird: radius 0.2 m, 4 kg. A pig or block
     loses health equal to the contact impulse of every impact it takes (contacts closing
     faster than 0.5 m/s, so a resting stack does not wear itself out) and is destroyed
     at zero, or when it leaves the arena (x outside [-3, 19] m). A bird hitting a wooden
-    post head-on at 15 m/s delivers about 40 N s; a pig falling 0.5 m onto the ground
-    takes about 10.
+    post (0.2 x 1.0 m, 12 kg) head-on at 15 m/s delivers (1 + e) m M / (m + M) v = 58 N s;
+    a pig falling 0.5 m onto the ground takes m v (1 + e) = 11.3 N s and just survives.
 
     ## Action Space
     `Box(-1, 1, (2,), float32)`: `action[0]` sets the launch angle, linear from 0 (at -1)
@@ -369,7 +369,9 @@ class Slingshot2DEnv(ShotEnv):
 
     ## Rewards
     +1 per pig destroyed, +0.1 per block destroyed, and when the last pig goes, +0.5 per
-    bird not used.
+    bird not used. The spent bird is removed when its launch has settled; anything left
+    resting on it falls at the start of the next launch, and what that destroys counts
+    for the next launch (as in the original game, where the bird vanishes too).
 
     ## Starting State
     `level="random"`: a procedural level from the episode's generator (one to three

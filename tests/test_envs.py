@@ -234,8 +234,8 @@ def test_ghost_ball_beats_random_over_100_episodes() -> None:
 
 
 def test_ballistic_launch_beats_random_over_100_episodes() -> None:
-    """Hand-made levels, three birds: aiming at the nearest pig scores 2.99 on average
-    (measured), random launches 1.0."""
+    """Random levels (the default), three birds: aiming at the nearest pig scores 2.59 on
+    average (measured; 2.99 on the hand-made levels), random launches 0.91."""
     scripted = _mean_return("Slingshot2D-v0", slingshot_ballistic, 100, 0)
     random = _mean_return("Slingshot2D-v0", None, 100, 0)
     assert scripted > 2.0 * random and scripted > 2.0

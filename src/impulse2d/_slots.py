@@ -323,7 +323,9 @@ class SlotStore:
         b["awake"][changed, slot] = flags[changed] & (self._motion[slot] != FIXED)
         b["sleep_time"][changed, slot] = 0.0
         self._broadphase.mark(flat)
-        self._touch()
+        # Only these bodies' step terms change (who moves, who is in the broadphase): a
+        # game that pots a ball in one of a thousand worlds should not rebuild them all.
+        self._touch(flat)
 
     # -- waking -------------------------------------------------------------------------------
     def _wake_slot(self, slot: int) -> None:

@@ -24,7 +24,8 @@ _LOCAL_RADIX = 1 << 20  # slots per world in a capacity-independent local key
 
 @dataclass
 class StepTerms:
-    """Per-body terms of a step, valid until the world's state version changes.
+    """Per-body terms of a step, valid until the world's state version changes (bodies
+    that wake, sleep or are switched on or off refresh only their own entries).
 
     ``index`` lists the bodies that move (awake dynamic or kinematic). When they are few
     (a batch whose worlds have mostly come to rest), per-body work runs on them only
@@ -135,7 +136,7 @@ class StepStages:
             h=h,
             movable=np.zeros(total, dtype=bool),
             moving=np.zeros(total, dtype=bool),
-            present=flat["enabled"] & self._solid_flat,
+            present=np.zeros(total, dtype=bool),
             index=np.zeros(0, np.int64),
             index3=np.zeros(0, np.int64),
             compact=False,
@@ -153,7 +154,9 @@ class StepStages:
     def _refresh_terms(self, terms: StepTerms, bodies: np.ndarray) -> None:
         """Recompute the awake-dependent terms of some bodies, in place."""
         flat, h = self._views, terms.h
-        moving = flat["awake"][bodies] & flat["enabled"][bodies]
+        enabled = flat["enabled"][bodies]
+        terms.present[bodies] = enabled & self._solid_flat[bodies]
+        moving = flat["awake"][bodies] & enabled
         movable = moving & self._dynamic_flat[bodies]
         terms.moving[bodies] = moving
         terms.movable[bodies] = movable
@@ -212,10 +215,16 @@ class StepStages:
             self._kind,
         )
         awake = flat["awake"]
+        worlds = np.unique(terms.index // self._bodies.capacity)
+        if 2 * worlds.size < self._batch:  # few worlds move: look only at their pairs
+            rows = self._broadphase.rows_of_worlds(worlds)
+            rows = rows[awake[body_a[rows]] | awake[body_b[rows]]]
+        else:
+            rows = np.flatnonzero(awake[body_a] | awake[body_b])
+        keys, body_a, body_b = keys[rows], body_a[rows], body_b[rows]
         grow_ab = grow[body_a] + grow[body_b]
-        near = (awake[body_a] | awake[body_b]) & (
-            np.abs(x[body_a] - x[body_b])
-            < self._extent_x[body_a] + self._extent_x[body_b] + grow_ab
+        near = np.abs(x[body_a] - x[body_b]) < (
+            self._extent_x[body_a] + self._extent_x[body_b] + grow_ab
         )
         near &= np.abs(y[body_a] - y[body_b]) < (
             self._extent_y[body_a] + self._extent_y[body_b] + grow_ab
@@ -464,6 +473,7 @@ class StepStages:
         self,
         terms: StepTerms,
         contacts: Contacts | None,
+        touching: tuple[np.ndarray, np.ndarray],
         speed: np.ndarray,
         springs: tuple | None,
         dt: float,
@@ -492,7 +502,7 @@ class StepStages:
                 awake[kinematic] = now
                 self._touch(kinematic)
         if self.sleeping:
-            self._update_sleep(terms, contacts, speed, springs, dt)
+            self._update_sleep(terms, touching, speed, springs, dt)
         self._time += dt
         self.steps += 1
         self.last_contacts = contacts
@@ -500,7 +510,7 @@ class StepStages:
     def _update_sleep(
         self,
         terms: StepTerms,
-        contacts: Contacts | None,
+        touching: tuple[np.ndarray, np.ndarray],
         speed: np.ndarray,
         springs: tuple | None,
         dt: float,
@@ -508,7 +518,11 @@ class StepStages:
         """Accumulate slow time; put islands that have been slow long enough to sleep.
 
         Slowness uses the step's speed bound ``|vx| + |vy| + R |w|`` (a little stricter
-        than the speed itself)."""
+        than the speed itself). Islands join bodies by every narrowphase point (touching
+        or about to), not only by the contacts that were solved: contacts between bodies
+        at rest are skipped by the solver, and islands cut along them would sleep in
+        pieces, each woken again by its awake neighbour, forever (an untouched rack next
+        to a rolling ball never slept)."""
         flat = self._views
         sleep_time = flat["sleep_time"]
         index = terms.index  # only moving bodies can change their sleep time
@@ -517,8 +531,7 @@ class StepStages:
         sleep_time[index] = ready
         if not (ready >= self.time_to_sleep).any():
             return
-        first = np.zeros(0, np.int64) if contacts is None else contacts.body_a
-        second = np.zeros(0, np.int64) if contacts is None else contacts.body_b
+        first, second = touching
         if springs is not None:
             first, second = (
                 np.concatenate([first, springs[0]]),

@@ -28,8 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .narrowphase import FEATURES, PAIR_KIND
+from .narrowphase import BOX_BOX, CIRCLE_BOX, CIRCLE_CIRCLE, FEATURES, PAIR_KIND
 
+# The pair kinds the broadphase holds (planes are paired separately), in key order.
+_BROAD_KINDS = np.array(sorted([CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX]), dtype=np.int64)
 _DENSE_LIMIT = 4_000_000  # moved bodies x slots tested densely before switching to the sweep
 
 
@@ -139,6 +141,12 @@ class Broadphase:
         if moved.size == 0:
             return self.keys, self.body_a, self.body_b
         self.updates += moved.size
+        # The pairs to drop (those of moved bodies) lie in the moved bodies' worlds: look
+        # only there, and copy the arrays once, without them.
+        moved_mask = np.zeros(x.size, dtype=bool)
+        moved_mask[moved] = True
+        rows = self.rows_of_worlds(np.unique(moved // self.slots))
+        drop = rows[moved_mask[self.body_a[rows]] | moved_mask[self.body_b[rows]]]
         live = present[moved]
         extra = grow[moved] + margin[moved]
         self.fat_x[moved] = x[moved]
@@ -146,11 +154,10 @@ class Broadphase:
         self.fat_hx[moved] = np.where(live, extent_x[moved] + extra, -np.inf)
         self.fat_hy[moved] = np.where(live, extent_y[moved] + extra, -np.inf)
 
-        moved_mask = np.zeros(x.size, dtype=bool)
-        moved_mask[moved] = True
-        keep = np.flatnonzero(~(moved_mask[self.body_a] | moved_mask[self.body_b]))
         new_keys, new_a, new_b = self._query(moved[live], moved_mask, present, allowed, kind)
-        kept = (self.keys[keep], self.body_a[keep], self.body_b[keep])
+        kept = (self.keys, self.body_a, self.body_b)
+        if drop.size:
+            kept = tuple(np.delete(array, drop) for array in kept)
         if new_keys.size == 0:
             self.keys, self.body_a, self.body_b = kept
             return kept
@@ -169,6 +176,22 @@ class Broadphase:
             merged.append(out)
         self.keys, self.body_a, self.body_b = merged
         return self.keys, self.body_a, self.body_b
+
+    def rows_of_worlds(self, worlds: np.ndarray) -> np.ndarray:
+        """Rows (indices into ``keys``, ascending) of the pairs of ``worlds`` (sorted,
+        unique). Keys sort by (kind, world) first, so one world's pairs of one kind are a
+        contiguous run, found by two binary searches: the cost follows the worlds asked
+        for, not the whole batch."""
+        span = self.slots * self.slots
+        start = (_BROAD_KINDS[:, None] * self.batch + worlds[None, :]).ravel() * span
+        low = np.searchsorted(self.keys, start)
+        count = np.searchsorted(self.keys, start + span) - low
+        total = int(count.sum())
+        if total == 0:
+            return np.zeros(0, np.int64)
+        # Concatenated ranges [low, low + count): a running index shifted per range.
+        shift = np.repeat(low - (np.cumsum(count) - count), count)
+        return np.arange(total) + shift
 
     def _query(
         self,

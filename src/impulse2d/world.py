@@ -166,7 +166,8 @@ class World(SlotStore, SnapshotMixin, StepStages):
         speed = self._speed_bound(terms)
         keys, body_a, body_b = self._candidate_pairs(terms, speed, dt)
         points = self._narrowphase(keys, body_a, body_b, speed, dt)
-        if self._wake_touched(body_a[points.pair], body_b[points.pair], springs):
+        touching = (body_a[points.pair], body_b[points.pair])
+        if self._wake_touched(*touching, springs):
             terms = self._step_terms(h)
         accel_h = self._accelerations(terms, h)
         if springs is not None:
@@ -177,7 +178,7 @@ class World(SlotStore, SnapshotMixin, StepStages):
         if points.pair.size:
             contacts = self._contacts(terms, accel_h, points, keys, body_a, body_b, h)
         self._substeps_loop(terms, accel_h, contacts, springs, h)
-        self._finish(terms, contacts, speed, springs, dt)
+        self._finish(terms, contacts, touching, speed, springs, dt)
 
     def _substeps_loop(
         self,
