@@ -66,9 +66,9 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
     import pymunk_pool_env as peer
 
 POOL, SLING = "Pool2D-v0", "Slingshot2D-v0"
-# Defaults sized for ~3.5 minutes on this 2-core machine: a 1,024-world Pool2D shot takes
-# ~10 s (the slowest of 1,024 shots runs to the 20 s cap, 2,400 steps), a single-env shot
-# ~0.25 s, a pymunk joints shot ~2.5 ms, a numpy-model shot ~12 ms.
+# Defaults sized for ~4 minutes on this 2-core machine: a 1,024-world Pool2D shot takes
+# ~10 s (the slowest of 1,024 shots runs ~1,550 steps), a single-env shot ~0.25 s, a
+# pymunk joints shot ~2.5 ms, a numpy-model shot ~12 ms.
 SINGLE_SHOTS = 60
 VECTOR_STEPS = {64: 6, 256: 4, 1024: 3}  # timed vector steps, after one warm-up step
 PYMUNK_SHOTS = {"joints": 8000, "numpy": 1600}  # one process, ~20 s; two: twice as many

@@ -389,7 +389,8 @@ class Pool2DEnv(ShotEnv):
 
     ## Rewards
     +1 per object ball potted; -1 if the cue ball is potted (a scratch: it comes back on
-    the head spot, or the nearest free point to it); -0.1 if the cue ball touches no ball.
+    the head spot, or the nearest free point to it behind the head string); -0.1 if the
+    cue ball touches no ball.
 
     ## Starting State
     `layout="rack"`: the object balls in the standard triangle (apex on the foot spot;
