@@ -100,8 +100,10 @@ class PoolGame(ShotGame):
         num_balls: int = 15,
         layout: str | None = None,
         max_shot_seconds: float = 20.0,
+        shaping: float = 0.0,
     ) -> None:
         super().__init__(batch_size)
+        self.shaping = _checks.non_negative("shaping", shaping)
         if isinstance(num_balls, bool) or not isinstance(num_balls, (int, np.integer)):
             raise ValueError(f"num_balls must be an int in [1, 15], got {num_balls!r}")
         if not 1 <= num_balls <= 15:
@@ -121,6 +123,7 @@ class PoolGame(ShotGame):
         self.potted = np.zeros((batch_size, count), dtype=bool)
         self._potted_before = self.potted.copy()
         self._touched = np.zeros(batch_size, dtype=bool)
+        self._potential_before = np.zeros(batch_size)
         self.observation_low = np.tile(np.array([-1.0, -1.0, 0.0], np.float32), count)
         self.observation_high = np.ones(3 * count, np.float32)
 
@@ -214,6 +217,20 @@ class PoolGame(ShotGame):
         self.balls[0].apply_impulse(impulse)
         self._potted_before[worlds] = self.potted[worlds]
         self._touched[worlds] = False
+        if self.shaping:
+            self._potential_before[worlds] = self._potential(worlds)
+
+    def _potential(self, worlds: np.ndarray) -> np.ndarray:
+        """Phi = -(sum over object balls still on the table of the distance from the ball
+        to its nearest pocket) / table length: 0 once every ball is down."""
+        pose = self.world.array("pose")
+        count = self.num_balls + 1
+        x, y = pose[0][worlds, 1:count], pose[1][worlds, 1:count]
+        dx = x[..., None] - self.pocket_centres[:, 0]
+        dy = y[..., None] - self.pocket_centres[:, 1]
+        nearest = np.sqrt(dx * dx + dy * dy).min(axis=-1)
+        on_table = ~self.potted[worlds, 1:]
+        return -(nearest * on_table).sum(axis=1) / TABLE_LENGTH
 
     def _after_step(self, shooting: np.ndarray) -> None:
         """Pot the moving balls whose centres entered a pocket (or, as a safeguard, left
@@ -251,6 +268,10 @@ class PoolGame(ShotGame):
         if scratch.any():
             self._respot(worlds[scratch])
         reward = objects - 1.0 * scratch - 0.1 * no_touch
+        shaped = np.zeros(worlds.size)
+        if self.shaping:
+            shaped = self.shaping * (self._potential(worlds) - self._potential_before[worlds])
+            reward = reward + shaped
         left = (~self.potted[worlds, 1:]).sum(axis=1)
         info = {
             "potted": objects.astype(np.int64),
@@ -259,6 +280,7 @@ class PoolGame(ShotGame):
             "fouls": scratch.astype(np.int64) + no_touch,
             "balls_left": left.astype(np.int64),
             "physics_steps": steps,
+            "shaping": shaped,
         }
         return reward.astype(np.float64), left == 0, info
 
@@ -392,6 +414,13 @@ class Pool2DEnv(ShotEnv):
     the head spot, or the nearest free point to it behind the head string); -0.1 if the
     cue ball touches no ball.
 
+    With `shaping=k > 0`, a learning aid: each shot also earns `k (Phi(after) -
+    Phi(before))`, where `Phi = -(sum over object balls on the table of the distance to
+    the nearest pocket) / 2.54 m`: moving a ball towards a pocket pays a little before
+    it drops. The term is potential-based (Ng, Harada and Russell, 1999), so it does not
+    change which play is best; `info["shaping"]` holds it, so the game's own score is
+    `reward - info["shaping"]`.
+
     ## Starting State
     `layout="rack"`: the object balls in the standard triangle (apex on the foot spot;
     with fewer balls, its first rows), the cue ball at a uniform random point behind the
@@ -404,17 +433,19 @@ class Pool2DEnv(ShotEnv):
 
     `info`: `potted` (object balls potted this shot), `cue_potted`, `no_touch`, `fouls`
     (the two counted), `balls_left`, `physics_steps` (engine steps of the shot at
-    dt = 1/120 s).
+    dt = 1/120 s), `shaping` (the shaping term in the reward; 0 unless `shaping` is set).
 
     ## Arguments
     ```python
-    gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, render_mode=None)
+    gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, shaping=0.0,
+             render_mode=None)
     gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point")
     ```
     * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
       pot from anywhere, is the natural first task for learning.
     * `layout`: `"rack"` or `"random"`; default `"rack"` for 15 balls, else `"random"`.
     * `max_shot_seconds`: simulated time after which a shot is stopped where it stands.
+    * `shaping` (>= 0): weight of the potential-based shaping term (see Rewards).
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
       (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window).
 

@@ -94,6 +94,30 @@ def test_potting_the_last_ball_ends_the_episode():
     assert reward[0] == 1.0 and terminated[0] and info["balls_left"][0] == 0
 
 
+@pytest.mark.parametrize("weight", [0.5, 2.0])
+def test_shaping_pays_the_distance_a_potted_ball_covered(weight):
+    """With ``shaping=k``, potting a ball that stood d from its nearest pocket earns
+    1 + k d / 2.54 m (its potential -d / 2.54 m goes to 0), and ``info["shaping"]``
+    holds exactly the extra; a stroke that touches nothing earns -0.1 and 0 shaping."""
+    obj, cue = _straight_in(3)
+    game = _game(1, [cue, obj])
+    game.shaping = weight
+    distance = np.hypot(*(CENTRES - obj).T).min()
+    reward, _, info = game.shoot(WORLD, _action(_toward(cue, obj), 2.0))
+    assert info["potted"][0] == 1
+    assert info["shaping"][0] == pytest.approx(weight * distance / TABLE_LENGTH, rel=1e-12)
+    assert reward[0] == pytest.approx(1.0 + info["shaping"][0], rel=1e-12)
+    game = _game(1, [(-0.8, 0.0), (0.8, 0.3)])
+    game.shaping = weight
+    reward, _, info = game.shoot(WORLD, _action(math.pi, SPEED_RANGE[0]))
+    assert info["no_touch"][0] and info["shaping"][0] == 0.0 and reward[0] == pytest.approx(-0.1)
+
+
+def test_shaping_must_not_be_negative():
+    with pytest.raises(ValueError, match="shaping"):
+        PoolGame(1, num_balls=1, shaping=-1.0)
+
+
 def test_ball_along_the_rail_drops_in_the_corner():
     """A ball rolling along a long rail (1 mm off the cushion) into the corner drops: the
     end rail stops 8.3 cm (mouth / sqrt 2) short of the corner, so it does not block it."""

