@@ -1,0 +1,237 @@
+"""Hyperparameter files and the resolved configuration of a run.
+
+A hyperparameter file (``agents/hyperparams/<algo>.yml``) maps env ids to settings, RL Zoo
+style. Four keys belong to this package; every other key is passed to the algorithm's
+constructor (so a misspelt one is caught by checking it against the constructor's
+signature, here, rather than deep inside Stable-Baselines3)::
+
+    Pool2D-v0:
+      n_timesteps: 1.5e5        # training budget (env steps = shots)
+      n_envs: 512               # worlds in the batched vector env
+      env_kwargs: {num_balls: 1, max_episode_steps: 5}
+      normalize: false          # VecNormalize: false, true, or {norm_obs: .., norm_reward: ..}
+      policy: MlpPolicy
+      policy_kwargs: {net_arch: [128, 128], activation_fn: tanh}
+      learning_rate: 3.0e-4     # ... and any other constructor argument
+
+``activation_fn`` is written by name (``tanh``, ``relu``, ``elu``, ``leaky_relu``); it
+is turned into the torch class only when the model is built, so the resolved config
+written to a run directory stays plain YAML.
+"""
+
+from __future__ import annotations
+
+import copy
+import inspect
+import json
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+import impulse2d.envs as _envs
+
+HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
+ALGOS = ("ppo", "sac")
+ENV_IDS = _envs.IDS
+# Keys of a hyperparameter entry that configure the run, not the algorithm.
+RUN_KEYS = ("n_timesteps", "n_envs", "env_kwargs", "normalize", "policy", "action_transform")
+ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
+EXTRACTORS = ("pool_relative",)  # agents/_features.py
+TRANSFORMS = ("direction_vector",)  # agents/_wrappers.py
+
+
+class _Loader(yaml.SafeLoader):
+    """YAML 1.1 reads ``1e-3`` (no dot) as a string; hyperparameters mean a number."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(
+        r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$"
+    ),
+    list("-+0123456789."),
+)
+
+
+def _yaml(text: Any) -> Any:
+    return yaml.load(text, Loader=_Loader)  # a SafeLoader subclass: no arbitrary objects
+
+
+def algo_class(algo: str) -> type:
+    """The Stable-Baselines3 class of ``algo`` (imported lazily: torch is slow to load)."""
+    check_algo(algo)
+    from stable_baselines3 import PPO, SAC
+
+    return {"ppo": PPO, "sac": SAC}[algo]
+
+
+def check_algo(algo: Any) -> str:
+    if algo not in ALGOS:
+        raise ValueError(f"algo must be one of {list(ALGOS)}, got {algo!r}")
+    return algo
+
+
+def check_env_id(env_id: Any) -> str:
+    if env_id not in ENV_IDS:
+        raise ValueError(f"env must be one of {list(ENV_IDS)}, got {env_id!r}")
+    return env_id
+
+
+def positive_count(name: str, value: Any) -> int:
+    """A positive whole number, also from ``2e5`` or ``"2e5"`` (the CLI's spelling)."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{name} must be a positive number, got {value!r}") from error
+    if isinstance(value, bool) or not math.isfinite(number) or number != int(number):
+        raise ValueError(f"{name} must be a positive whole number, got {value!r}")
+    if number <= 0:
+        raise ValueError(f"{name} must be > 0, got {value!r}")
+    return int(number)
+
+
+def load_hyperparams(algo: str, env_id: str, path: str | Path | None = None) -> dict[str, Any]:
+    """The entry for ``env_id`` in ``path`` (default: ``agents/hyperparams/<algo>.yml``),
+    checked; a copy the caller may change."""
+    check_algo(algo)
+    check_env_id(env_id)
+    path = Path(path) if path is not None else HYPERPARAMS_DIR / f"{algo}.yml"
+    if not path.is_file():
+        raise ValueError(f"config: no such file {str(path)!r}")
+    with open(path) as file:
+        table = _yaml(file) or {}
+    if not isinstance(table, dict) or env_id not in table:
+        raise ValueError(f"config: {str(path)!r} has no entry for {env_id!r}")
+    entry = copy.deepcopy(table[env_id])
+    if not isinstance(entry, dict):
+        raise ValueError(f"config: the {env_id!r} entry of {str(path)!r} must be a mapping")
+    return entry
+
+
+def parse_json_kwargs(name: str, text: str | None) -> dict[str, Any]:
+    """``--env-kwargs '{"num_balls": 1}'`` as a dict."""
+    if text is None or text == "":
+        return {}
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{name} must be a JSON object, got {text!r}: {error}") from error
+    if not isinstance(value, dict):
+        raise ValueError(f"{name} must be a JSON object, got {text!r}")
+    return value
+
+
+def parse_overrides(items: list[str] | None) -> dict[str, Any]:
+    """``--hyperparams learning_rate=1e-3 n_steps=16`` as a dict (values read as YAML)."""
+    out: dict[str, Any] = {}
+    for item in items or []:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise ValueError(f"hyperparams must be key=value pairs, got {item!r}")
+        out[key] = _yaml(value)
+    return out
+
+
+def resolve(
+    algo: str,
+    env_id: str,
+    *,
+    config_file: str | Path | None = None,
+    timesteps: Any = None,
+    num_envs: Any = None,
+    env_kwargs: dict[str, Any] | None = None,
+    overrides: dict[str, Any] | None = None,
+    seed: Any = 0,
+) -> dict[str, Any]:
+    """The full configuration of a run: the file's entry with the command line's values on
+    top, checked. Returns ``{"env_id", "algo", "seed", "n_timesteps", "n_envs",
+    "env_kwargs", "normalize", "policy", "action_transform", "hyperparams"}`` (plain
+    YAML-able values)."""
+    entry = load_hyperparams(algo, env_id, config_file)
+    entry.update(overrides or {})
+    if seed is None or isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed must be an int >= 0, got {seed!r}")
+    config: dict[str, Any] = {"env_id": env_id, "algo": algo, "seed": seed}
+    steps = timesteps if timesteps is not None else entry.pop("n_timesteps", None)
+    entry.pop("n_timesteps", None)
+    if steps is None:
+        raise ValueError("timesteps: not given and the config has no n_timesteps")
+    config["n_timesteps"] = positive_count("timesteps", steps)
+    envs = num_envs if num_envs is not None else entry.pop("n_envs", 8)
+    entry.pop("n_envs", None)
+    config["n_envs"] = positive_count("num_envs", envs)
+    kwargs = entry.pop("env_kwargs", None) or {}
+    if not isinstance(kwargs, dict):
+        raise ValueError(f"env_kwargs must be a mapping, got {kwargs!r}")
+    config["env_kwargs"] = {**kwargs, **(env_kwargs or {})}
+    config["normalize"] = _check_normalize(entry.pop("normalize", False))
+    config["policy"] = entry.pop("policy", "MlpPolicy")
+    transform = entry.pop("action_transform", None)
+    if transform is not None and transform not in TRANSFORMS:
+        raise ValueError(f"action_transform must be one of {TRANSFORMS} or null")
+    config["action_transform"] = transform
+    _check_algo_kwargs(algo, entry)
+    config["hyperparams"] = entry
+    return config
+
+
+def _check_normalize(value: Any) -> bool | dict[str, Any]:
+    if isinstance(value, bool):
+        return value
+    allowed = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon"}
+    if isinstance(value, dict) and set(value) <= allowed:
+        return value
+    raise ValueError(f"normalize must be true, false or a mapping of {sorted(allowed)}")
+
+
+def _check_algo_kwargs(algo: str, kwargs: dict[str, Any]) -> None:
+    """Unknown constructor arguments and bad activation names fail here, by name."""
+    cls = algo_class(algo)
+    known = set(inspect.signature(cls.__init__).parameters) - {"self", "policy", "env"}
+    unknown = sorted(set(kwargs) - known)
+    if unknown:
+        raise ValueError(f"hyperparams: {cls.__name__} has no parameter(s) {unknown}")
+    policy_kwargs = kwargs.get("policy_kwargs") or {}
+    if not isinstance(policy_kwargs, dict):
+        raise ValueError(f"policy_kwargs must be a mapping, got {policy_kwargs!r}")
+    activation = policy_kwargs.get("activation_fn")
+    if activation is not None and activation not in ACTIVATIONS:
+        raise ValueError(f"policy_kwargs.activation_fn must be one of {ACTIVATIONS}")
+    extractor = policy_kwargs.get("features_extractor_class")
+    if extractor is not None and extractor not in EXTRACTORS:
+        raise ValueError(f"policy_kwargs.features_extractor_class must be one of {EXTRACTORS}")
+
+
+def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
+    """The constructor arguments of a resolved config, with the activation and the
+    features extractor, written by name, as classes."""
+    import torch.nn as nn
+
+    from ._features import EXTRACTORS as classes
+
+    kwargs = copy.deepcopy(config["hyperparams"])
+    policy_kwargs = kwargs.get("policy_kwargs") or {}
+    if isinstance(policy_kwargs.get("activation_fn"), str):
+        names = {"tanh": nn.Tanh, "relu": nn.ReLU, "elu": nn.ELU, "leaky_relu": nn.LeakyReLU}
+        policy_kwargs["activation_fn"] = names[policy_kwargs["activation_fn"]]
+    if isinstance(policy_kwargs.get("features_extractor_class"), str):
+        name = policy_kwargs["features_extractor_class"]
+        policy_kwargs["features_extractor_class"] = classes[name]
+    return kwargs
+
+
+def save_config(config: dict[str, Any], path: Path) -> None:
+    with open(path, "w") as file:
+        yaml.safe_dump(config, file, sort_keys=False)
+
+
+def load_config(run_dir: str | Path) -> dict[str, Any]:
+    """The resolved config of a run directory (``config.yml``)."""
+    path = Path(run_dir) / "config.yml"
+    if not path.is_file():
+        raise ValueError(f"run_dir: {str(run_dir)!r} has no config.yml (not a training run?)")
+    with open(path) as file:
+        return yaml.safe_load(file)

@@ -1,0 +1,223 @@
+"""Evaluate a trained agent beside the random and scripted players.
+
+    python -m agents.evaluate --run-dir runs/Pool2D-v0_ppo_seed0 [--episodes 100] [--seed 1000]
+
+The three policies play the same seeded episodes (episode ``k`` starts from env seed
+``seed + k``, on the env variant the agent was trained on), the trained agent acting
+deterministically and the random player from a generator seeded ``seed``, so running it
+twice gives the same numbers. Written to the run directory:
+
+* ``results.json`` / ``results.md``: mean ± std over episodes of the reward and the task
+  metrics (Pool: balls potted, fouls and scratches per shot; Slingshot: pigs and blocks
+  destroyed, birds used, levels cleared), and whether the targets are met;
+* ``learning_curve.png``: the training return against env steps, with the baselines;
+* ``agent.gif`` (or ``.mp4``): the trained agent playing a few shots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import pickle
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import _config, _media, _tasks
+
+POLICIES = ("trained", "random", "scripted")
+
+
+def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
+    """The trained agent of a run directory as a batch policy (observations -> env
+    actions, deterministic), and the run's config."""
+    import torch
+
+    torch.set_num_threads(1)
+    run_dir = Path(run_dir)
+    config = _config.load_config(run_dir)
+    path = run_dir / "model.zip"
+    if not path.is_file():
+        raise ValueError(f"run_dir: {str(run_dir)!r} has no model.zip")
+    model = _config.algo_class(config["algo"]).load(str(path), device="cpu")
+    normalizer = None
+    stats = run_dir / "vecnormalize.pkl"
+    if stats.is_file():
+        with open(stats, "rb") as file:  # our own file, written by agents.train
+            normalizer = pickle.load(file)
+        normalizer.training = False
+
+    transform = None
+    if config.get("action_transform"):
+        from ._wrappers import TRANSFORMS
+
+        transform = TRANSFORMS[config["action_transform"]][1]
+
+    def policy(obs: np.ndarray) -> np.ndarray:
+        if normalizer is not None:
+            obs = normalizer.normalize_obs(obs)
+        action, _ = model.predict(obs, deterministic=True)
+        if transform is not None:  # the policy's own action space -> the env's
+            action = transform(action)
+        return np.asarray(action, np.float32)
+
+    return policy, config
+
+
+def random_policy(seed: int) -> _tasks.Policy:
+    """Uniform actions in [-1, 1]^2 from a generator seeded ``seed``."""
+    rng = np.random.default_rng(seed)
+    return lambda obs: rng.uniform(-1.0, 1.0, (len(obs), 2)).astype(np.float32)
+
+
+def evaluate(
+    run_dir: str | Path,
+    episodes: int = 100,
+    seed: int = 1000,
+    video: str | None = "gif",
+    video_shots: int = 6,
+) -> dict[str, Any]:
+    """Evaluate the run in ``run_dir`` (see the module docstring); returns the results
+    (what ``results.json`` holds). ``video``: ``"gif"``, ``"mp4"`` or None (no video)."""
+    episodes = _config.positive_count("episodes", episodes)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an int >= 0, got {seed!r}")
+    if video not in ("gif", "mp4", None):
+        raise ValueError(f"video must be 'gif', 'mp4' or None, got {video!r}")
+    run_dir = Path(run_dir)
+    start = time.perf_counter()
+    trained, config = load_policy(run_dir)
+    task = _tasks.task(config["env_id"])
+    env_kwargs = config["env_kwargs"]
+    players = {"trained": trained, "random": random_policy(seed), "scripted": task.scripted}
+    rows = {}
+    for name, policy in players.items():
+        record = _tasks.play_episodes(task.env_id, env_kwargs, policy, episodes, seed)
+        rows[name] = _tasks.summarize(task, record)
+    training = run_dir / "training.json"
+    results: dict[str, Any] = {
+        "env_id": task.env_id,
+        "algo": config["algo"],
+        "train_seed": config["seed"],
+        "env_kwargs": env_kwargs,
+        "trained_timesteps": json.loads(training.read_text())["num_timesteps"]
+        if training.is_file()
+        else None,
+        "episodes": episodes,
+        "episode_seeds": [seed, seed + episodes - 1],
+        "scripted": task.scripted_name,
+        "metrics": {m.key: {"label": m.label, "kind": m.kind} for m in task.metrics},
+        "policies": rows,
+        "targets": _targets(task, rows),
+    }
+    reward = {name: rows[name]["reward"]["mean"] for name in POLICIES}
+    _media.learning_curve(
+        run_dir,
+        run_dir / "learning_curve.png",
+        f"{task.env_id}: {config['algo'].upper()}, seed {config['seed']}",
+        {
+            f"random ({reward['random']:.2f})": reward["random"],
+            f"scripted: {task.scripted_name} ({reward['scripted']:.2f})": reward["scripted"],
+        },
+        trained=(reward["trained"], rows["trained"]["reward"]["std"] / np.sqrt(episodes)),
+    )
+    if video is not None:
+        frames = _media.record_video(
+            task.env_id, env_kwargs, trained, run_dir / f"agent.{video}", seed, video_shots
+        )
+        results["video_frames"] = frames
+    results["eval_seconds"] = round(time.perf_counter() - start, 1)
+    (run_dir / "results.json").write_text(json.dumps(results, indent=2) + "\n")
+    table = format_table(results)
+    (run_dir / "results.md").write_text(table)
+    print(table, flush=True)
+    return results
+
+
+def _targets(task: _tasks.Task, rows: dict[str, Any]) -> dict[str, Any]:
+    """The issue's two targets (definitions in agents/README.md)."""
+    twice = {name: rows[name][task.twice_key]["mean"] for name in POLICIES}
+    half = {name: rows[name][task.half_key]["mean"] for name in POLICIES}
+    return {
+        "beats_random_2x": {
+            "metric": task.twice_key,
+            "trained": twice["trained"],
+            "needed": 2.0 * twice["random"],
+            "met": bool(twice["trained"] >= 2.0 * twice["random"] and twice["trained"] > 0),
+        },
+        "half_of_scripted": {
+            "metric": task.half_key,
+            "trained": half["trained"],
+            "needed": 0.5 * half["scripted"],
+            "met": bool(half["trained"] >= 0.5 * half["scripted"]),
+        },
+    }
+
+
+def format_table(results: dict[str, Any]) -> str:
+    """``results.md``: the comparison table and the targets, as Markdown."""
+    metrics = results["metrics"]
+    labels = {key: spec["label"] for key, spec in metrics.items()}
+    algo = results["algo"].upper()
+    names = {
+        "trained": f"trained {algo}",
+        "random": "random",
+        "scripted": f"scripted ({results['scripted']})",
+    }
+    lines = [
+        f"# {results['env_id']}: {algo} (seed {results['train_seed']}, "
+        f"{results['trained_timesteps'] or 0:,} steps) vs random vs scripted",
+        "",
+        f"{results['episodes']} episodes, env seeds {results['episode_seeds'][0]}-"
+        f"{results['episode_seeds'][1]}, env_kwargs `{json.dumps(results['env_kwargs'])}`; "
+        "mean ± std over episodes (rates: total / total shots).",
+        "",
+        "| policy | " + " | ".join(labels.values()) + " |",
+        "|---|" + "---|" * len(labels),
+    ]
+    for key in POLICIES:
+        row = results["policies"][key]
+        cells = []
+        for metric in labels:
+            mean, std = row[metric]["mean"], row[metric]["std"]
+            rate = metrics[metric]["kind"] == "rate"
+            cells.append(f"{mean:.3f}" if rate else f"{mean:.2f} ± {std:.2f}")
+        lines.append(f"| {names[key]} | " + " | ".join(cells) + " |")
+    lines.append("")
+    for name, target in results["targets"].items():
+        verdict = "met" if target["met"] else "NOT met"
+        lines.append(
+            f"* {name}: {labels[target['metric']]} {target['trained']:.2f} vs needed "
+            f"{target['needed']:.2f}: {verdict}"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m agents.evaluate",
+        description="Compare a trained agent with the random and scripted players over the "
+        "same seeded episodes; write results.md/json, learning_curve.png and a video.",
+    )
+    parser.add_argument("--run-dir", required=True, help="a directory made by agents.train")
+    parser.add_argument("--episodes", type=int, default=100, help="episodes (default 100)")
+    parser.add_argument("--seed", type=int, default=1000, help="first episode seed (1000)")
+    parser.add_argument("--video", choices=("gif", "mp4", "none"), default="gif")
+    parser.add_argument("--video-shots", type=int, default=6, help="shots in the video (6)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> dict[str, Any]:
+    args = build_parser().parse_args(argv)
+    video = None if args.video == "none" else args.video
+    return evaluate(args.run_dir, args.episodes, args.seed, video, args.video_shots)
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except ValueError as error:
+        sys.exit(f"error: {error}")

@@ -1,0 +1,328 @@
+"""Train an agent on Pool2D-v0 or Slingshot2D-v0, RL Zoo style.
+
+    python -m agents.train --env Pool2D-v0 --algo ppo            # the defaults in ppo.yml
+    python -m agents.train --env Slingshot2D-v0 --algo sac --timesteps 5e4 --seed 1
+    python -m agents.train --env Pool2D-v0 --algo ppo --resume runs/Pool2D-v0_ppo_seed0/model.zip
+
+The hyperparameters come from ``agents/hyperparams/<algo>.yml`` (or ``--config FILE``),
+keyed by env id; the command line overrides the budget (``--timesteps``), the number of
+worlds (``--num-envs``), env arguments (``--env-kwargs``, JSON) and any algorithm
+argument (``--hyperparams key=value ...``). Training runs on the natively batched vector
+env (every world stepped in one engine) through the Stable-Baselines3 adapter.
+
+The run directory (default ``runs/<env>_<algo>_seed<k>/``) gets ``model.zip``,
+``config.yml`` (the resolved configuration), ``command.txt``, ``progress.csv`` (SB3's CSV
+log), ``monitor.csv`` (every episode's return and length), TensorBoard logs in ``tb/``
+(when tensorboard is installed), ``vecnormalize.pkl`` (when observations or rewards are
+normalised) and ``training.json`` (wall time, speed). Unless ``--no-evaluate``, the run is
+then evaluated (``agents.evaluate``): results table, learning curve and video.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import shlex
+import shutil
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from . import _config
+
+DEFAULT_RUNS = Path("runs")
+
+
+def default_run_dir(env_id: str, algo: str, seed: int) -> Path:
+    return DEFAULT_RUNS / f"{env_id}_{algo}_seed{seed}"
+
+
+def make_vec_env(config: dict[str, Any], seed: int, monitor: Path | None = None) -> Any:
+    """The training env of a resolved config: the batched vector env as an SB3 ``VecEnv``
+    (env ``i`` seeded ``seed + i``), under ``VecMonitor`` (episode statistics for SB3's
+    logs, and ``monitor.csv`` when ``monitor`` is a directory) and the config's action
+    transform, if any."""
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    import impulse2d  # noqa: F401  (registers the env ids)
+    from impulse2d.envs.sb3 import make_sb3_vec_env
+
+    venv = make_sb3_vec_env(config["env_id"], config["n_envs"], seed=seed, **config["env_kwargs"])
+    venv = VecMonitor(venv, filename=str(monitor) if monitor is not None else None)
+    if config.get("action_transform"):
+        from ._wrappers import TransformAction
+
+        venv = TransformAction(venv, config["action_transform"])
+    return venv
+
+
+def _normalized(venv: Any, config: dict[str, Any], stats: Path | None) -> Any:
+    """Wrap in ``VecNormalize`` if the config asks for it (loading saved statistics when
+    resuming, so the agent sees the inputs it was trained on)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    if not config["normalize"]:
+        return venv
+    if stats is not None and stats.is_file():
+        venv = VecNormalize.load(str(stats), venv)
+        venv.training = True
+        return venv
+    options = dict(config["normalize"]) if isinstance(config["normalize"], dict) else {}
+    options.setdefault("gamma", config["hyperparams"].get("gamma", 0.99))
+    return VecNormalize(venv, **options)
+
+
+def _logger(run_dir: Path) -> tuple[Any, str]:
+    """SB3 logger writing ``progress.csv`` and, if tensorboard is importable, ``tb/``."""
+    from stable_baselines3.common.logger import CSVOutputFormat, Logger
+
+    formats: list[Any] = [CSVOutputFormat(str(run_dir / "progress.csv"))]
+    try:
+        from stable_baselines3.common.logger import TensorBoardOutputFormat
+
+        formats.append(TensorBoardOutputFormat(str(run_dir / "tb")))
+        note = f"TensorBoard logs in {run_dir / 'tb'}"
+    except ImportError:  # SB3 raises it when torch.utils.tensorboard cannot load
+        note = "tensorboard is not installed: no TensorBoard logs (pip install tensorboard)"
+    return Logger(folder=str(run_dir), output_formats=formats), note
+
+
+def train(
+    config: dict[str, Any],
+    run_dir: str | Path,
+    *,
+    resume: str | Path | None = None,
+    progress_bar: bool = True,
+    command: str | None = None,
+    verbose: int = 0,
+) -> Path:
+    """Train (or, with ``resume``, continue training) the agent of a resolved config
+    (``agents._config.resolve``) for ``config["n_timesteps"]`` more env steps; save
+    everything in ``run_dir`` and return it."""
+    import torch
+    from stable_baselines3.common.utils import set_random_seed
+
+    # Two cores, shared: one thread keeps torch off the core the physics needs, and makes
+    # runs bitwise repeatable.
+    torch.set_num_threads(1)
+    run_dir = Path(run_dir)
+    resume_path = _check_resume(resume)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    cls = _config.algo_class(config["algo"])
+    previous_progress = _prepare_run_dir(run_dir, resume_path)
+
+    seed = config["seed"]
+    if resume_path is not None:
+        model = cls.load(str(resume_path), device="cpu")
+        # A resumed run plays fresh episodes: its envs' seeds start past the steps done.
+        env_seed = seed + int(model.num_timesteps)
+        config = {**config, "resumed_from": str(resume_path)}
+        config["resumed_at_timesteps"] = int(model.num_timesteps)
+    else:
+        model, env_seed = None, seed
+    set_random_seed(env_seed)
+    if command is not None:
+        (run_dir / "command.txt").write_text(command + "\n")
+    _config.save_config(config, run_dir / "config.yml")
+
+    venv = make_vec_env(config, env_seed, monitor=run_dir)
+    stats = resume_path.parent / "vecnormalize.pkl" if resume_path is not None else None
+    venv = _normalized(venv, config, stats)
+    if model is None:
+        model = cls(
+            config["policy"],
+            venv,
+            seed=seed,
+            device="cpu",
+            verbose=verbose,
+            **_config.algo_kwargs(config),
+        )
+    else:
+        model.set_env(venv)
+        model.set_random_seed(env_seed)
+    logger, note = _logger(run_dir)
+    model.set_logger(logger)
+    print(
+        f"training {config['algo'].upper()} on {config['env_id']} with {config['n_envs']} "
+        f"worlds for {config['n_timesteps']:,} steps -> {run_dir} ({note})",
+        flush=True,
+    )
+    start, done = time.perf_counter(), model.num_timesteps
+    interrupted = False
+    try:
+        model.learn(
+            total_timesteps=config["n_timesteps"],
+            reset_num_timesteps=resume_path is None,
+            progress_bar=progress_bar and _has_progress_bar(),
+        )
+    except KeyboardInterrupt:  # keep what was learnt so far; --resume can go on
+        interrupted = True
+        print("interrupted: saving the model as it is", flush=True)
+    seconds = time.perf_counter() - start
+    model.save(str(run_dir / "model.zip"))
+    if config["normalize"]:
+        venv.save(str(run_dir / "vecnormalize.pkl"))
+    logger.close()
+    venv.close()
+    if previous_progress is not None:
+        _merge_progress(previous_progress, run_dir / "progress.csv")
+    steps = int(model.num_timesteps - done)
+    summary = {
+        "num_timesteps": int(model.num_timesteps),
+        "steps_this_run": steps,
+        "wall_seconds": round(seconds, 1),
+        "steps_per_second": round(steps / max(seconds, 1e-9), 1),
+        "interrupted": interrupted,
+    }
+    (run_dir / "training.json").write_text(json.dumps(summary, indent=2) + "\n")
+    print(
+        f"trained {steps:,} steps in {seconds:.0f} s ({summary['steps_per_second']} steps/s); "
+        f"model in {run_dir / 'model.zip'}",
+        flush=True,
+    )
+    return run_dir
+
+
+def _check_resume(resume: str | Path | None) -> Path | None:
+    if resume is None:
+        return None
+    path = Path(resume)
+    if path.is_dir():
+        path = path / "model.zip"
+    if not path.is_file():
+        raise ValueError(f"resume: no model file {str(path)!r}")
+    return path
+
+
+def _prepare_run_dir(run_dir: Path, resume: Path | None) -> Path | None:
+    """Clear a fresh run's old logs; when resuming, keep the earlier ``progress.csv`` aside
+    (SB3's CSV writer starts a new file) to be merged back after training."""
+    for name in ("tb", "progress.prev.csv"):
+        path = run_dir / name
+        if path.is_dir():
+            shutil.rmtree(path)
+        elif path.exists():
+            path.unlink()
+    if resume is None:
+        return None
+    earlier = resume.parent / "progress.csv"
+    if not earlier.is_file():
+        return None
+    kept = run_dir / "progress.prev.csv"
+    shutil.copyfile(earlier, kept)
+    return kept
+
+
+def _merge_progress(earlier: Path, current: Path) -> None:
+    """``progress.csv`` = the earlier rows, then this run's (columns: the union)."""
+    rows: list[dict[str, str]] = []
+    fields: list[str] = []
+    for path in (earlier, current):
+        if not path.is_file():
+            continue
+        with open(path, newline="") as file:
+            reader = csv.DictReader(file)
+            fields += [f for f in reader.fieldnames or [] if f not in fields]
+            rows += list(reader)
+    with open(current, "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    earlier.unlink()
+
+
+def _has_progress_bar() -> bool:
+    """SB3's progress bar needs tqdm and rich; without them, train without one."""
+    try:
+        import rich  # noqa: F401
+        import tqdm  # noqa: F401
+    except ImportError:
+        print("note: install tqdm and rich for a progress bar", flush=True)
+        return False
+    return True
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m agents.train",
+        description="Train PPO or SAC on Pool2D-v0 / Slingshot2D-v0 (hyperparameters from "
+        "agents/hyperparams/<algo>.yml), then evaluate the agent.",
+    )
+    parser.add_argument("--env", default="Pool2D-v0", help="env id (default Pool2D-v0)")
+    parser.add_argument("--algo", default="ppo", help="ppo or sac (default ppo)")
+    parser.add_argument("--timesteps", default=None, help="env steps, e.g. 2e5 (default: YAML)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--num-envs", default=None, help="worlds in the batch (default: YAML)")
+    parser.add_argument("--run-dir", default=None, help="default runs/<env>_<algo>_seed<k>")
+    parser.add_argument("--env-kwargs", default=None, help="JSON, e.g. '{\"num_balls\": 1}'")
+    parser.add_argument("--config", default=None, help="hyperparameter YAML file to use")
+    parser.add_argument(
+        "--hyperparams",
+        nargs="*",
+        default=None,
+        metavar="KEY=VALUE",
+        help="algorithm arguments overriding the YAML, e.g. learning_rate=1e-3",
+    )
+    parser.add_argument("--resume", default=None, help="model.zip (or its run dir) to go on from")
+    parser.add_argument("--no-progress-bar", action="store_true", help="train without a bar")
+    parser.add_argument(
+        "--evaluate",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="evaluate after training (default on; --no-evaluate to skip)",
+    )
+    parser.add_argument("--eval-episodes", type=int, default=100, help="episodes (default 100)")
+    parser.add_argument("--eval-seed", type=int, default=1000, help="first episode seed")
+    parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (default 0)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> Path:
+    """The command line: resolve the config, train, and evaluate unless told not to."""
+    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    env_id = _config.check_env_id(args.env)
+    algo = _config.check_algo(args.algo)
+    config = _config.resolve(
+        algo,
+        env_id,
+        config_file=args.config,
+        timesteps=args.timesteps,
+        num_envs=args.num_envs,
+        env_kwargs=_config.parse_json_kwargs("env_kwargs", args.env_kwargs),
+        overrides=_config.parse_overrides(args.hyperparams),
+        seed=args.seed,
+    )
+    if args.resume is None and args.run_dir is None:
+        run_dir = default_run_dir(env_id, algo, args.seed)
+    elif args.run_dir is None:
+        run_dir = _check_resume(args.resume).parent  # continue in the resumed run's dir
+    else:
+        run_dir = Path(args.run_dir)
+    if args.evaluate:
+        _config.positive_count("eval_episodes", args.eval_episodes)
+    command = "python -m agents.train " + " ".join(shlex.quote(a) for a in argv)
+    start = time.perf_counter()
+    train(
+        config,
+        run_dir,
+        resume=args.resume,
+        progress_bar=not args.no_progress_bar,
+        command=command,
+        verbose=args.verbose,
+    )
+    if args.evaluate:
+        from .evaluate import evaluate
+
+        evaluate(run_dir, episodes=args.eval_episodes, seed=args.eval_seed)
+        print(f"train + evaluate: {time.perf_counter() - start:.0f} s wall time", flush=True)
+    return run_dir
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except ValueError as error:  # bad input: one clear line, not a traceback
+        sys.exit(f"error: {error}")

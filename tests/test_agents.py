@@ -1,0 +1,272 @@
+"""The agents package: smoke training of each algorithm on each env, the run directory's
+files, resuming, determinism, the evaluation's outputs and bad input.
+
+Budgets are tiny (a few worlds, shots capped at 2 s of simulated time, 64-128 steps): the
+point is that every piece runs and writes what it promises, not that the agent learns.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+
+pytest.importorskip("stable_baselines3")
+
+from agents import _config, evaluate, train
+
+ROOT = Path(__file__).resolve().parents[1]
+SHORT = '{"max_shot_seconds": 2.0}'  # short shots: the tests time the code, not the physics
+# Tiny versions of each algorithm's settings (the YAML's values otherwise).
+TINY = {
+    "ppo": ["n_steps=8", "batch_size=16", "n_epochs=2"],
+    "sac": ["learning_starts=16", "gradient_steps=2", "batch_size=16", "buffer_size=500"],
+}
+EXPECTED_COLUMNS = {
+    "Pool2D-v0": ["reward / episode", "potted / episode", "potted / shot", "fouls / shot"],
+    "Slingshot2D-v0": ["reward / episode", "pigs destroyed / episode", "birds used / episode"],
+}
+
+
+def _train(
+    run_dir: Path, env: str = "Pool2D-v0", algo: str = "ppo", steps: int = 64, *extra: str
+) -> Path:
+    argv = [
+        "--env", env, "--algo", algo, "--timesteps", str(steps), "--num-envs", "4",
+        "--seed", "0", "--run-dir", str(run_dir), "--env-kwargs", SHORT,
+        "--no-progress-bar", "--no-evaluate", "--hyperparams", *TINY[algo], *extra,
+    ]  # fmt: skip
+    return train.main(argv)
+
+
+def _progress(run_dir: Path) -> list[dict[str, str]]:
+    with open(run_dir / "progress.csv", newline="") as file:
+        return list(csv.DictReader(file))
+
+
+def _params(run_dir: Path, algo: str) -> list[np.ndarray]:
+    model = _config.algo_class(algo).load(str(run_dir / "model.zip"), device="cpu")
+    return [p.detach().numpy().copy() for p in model.policy.parameters()]
+
+
+@pytest.mark.parametrize("env", ["Pool2D-v0", "Slingshot2D-v0"])
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+def test_smoke_training_writes_the_run_directory(tmp_path: Path, env: str, algo: str) -> None:
+    run_dir = _train(tmp_path / "run", env, algo, 64)
+    for name in ("model.zip", "config.yml", "command.txt", "progress.csv", "monitor.csv"):
+        assert (run_dir / name).is_file(), name
+    config = yaml.safe_load((run_dir / "config.yml").read_text())
+    assert config["env_id"] == env and config["algo"] == algo and config["n_envs"] == 4
+    # The YAML's env arguments, with the command line's on top.
+    assert config["env_kwargs"]["max_shot_seconds"] == 2.0
+    expected = {"Pool2D-v0": ("num_balls", 1), "Slingshot2D-v0": ("level", "handmade")}[env]
+    assert config["env_kwargs"][expected[0]] == expected[1]
+    assert config["hyperparams"]["batch_size"] == 16
+    command = (run_dir / "command.txt").read_text()
+    assert command.startswith("python -m agents.train ") and f"--algo {algo}" in command
+    summary = json.loads((run_dir / "training.json").read_text())
+    assert summary["num_timesteps"] >= 64
+    rows = _progress(run_dir)
+    # PPO logs after every rollout, so its last row is the end; SAC logs every few
+    # episodes, so its last row may be a little before it.
+    last = int(float(rows[-1]["time/total_timesteps"])) if rows else 0
+    assert 0 < last <= summary["num_timesteps"]
+    if algo == "ppo":
+        assert last == summary["num_timesteps"]
+    assert int(float(rows[-1]["train/n_updates"])) > 0  # the networks were trained
+    try:
+        import tensorboard  # noqa: F401
+
+        assert any((run_dir / "tb").iterdir())
+    except ImportError:
+        pass
+
+
+def test_same_seed_trains_the_same_network(tmp_path: Path) -> None:
+    a = _params(_train(tmp_path / "a", steps=32), "ppo")
+    b = _params(_train(tmp_path / "b", steps=32), "ppo")
+    c = _params(_train(tmp_path / "c", "Pool2D-v0", "ppo", 32, "--seed", "1"), "ppo")
+    assert all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
+    assert not all(np.array_equal(x, z) for x, z in zip(a, c, strict=True))
+
+
+def test_resume_continues_the_timesteps_and_the_log(tmp_path: Path) -> None:
+    first = _train(tmp_path / "run", steps=64)
+    before = json.loads((first / "training.json").read_text())["num_timesteps"]
+    params = _params(first, "ppo")
+    argv = [
+        "--env", "Pool2D-v0", "--algo", "ppo", "--timesteps", "32", "--env-kwargs", SHORT,
+        "--num-envs", "4", "--resume", str(first / "model.zip"), "--no-progress-bar",
+        "--no-evaluate",
+    ]  # fmt: skip
+    run_dir = train.main(argv)
+    assert run_dir == first  # by default a resumed run goes on in its own directory
+    after = json.loads((run_dir / "training.json").read_text())
+    assert after["num_timesteps"] == before + 32 and after["steps_this_run"] == 32
+    steps = [int(float(row["time/total_timesteps"])) for row in _progress(run_dir)]
+    assert steps == sorted(steps) and steps[0] <= before and steps[-1] == before + 32
+    assert any(s <= before for s in steps) and any(s > before for s in steps)
+    config = yaml.safe_load((run_dir / "config.yml").read_text())
+    assert config["resumed_from"].endswith("model.zip")
+    assert config["resumed_at_timesteps"] == before
+    moved = _params(run_dir, "ppo")
+    assert not all(np.array_equal(x, y) for x, y in zip(params, moved, strict=True))
+
+
+@pytest.fixture(scope="module")
+def evaluated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, Any]]:
+    run_dir = _train(tmp_path_factory.mktemp("eval") / "run", steps=32)
+    results = evaluate.evaluate(run_dir, episodes=6, seed=1000, video="gif", video_shots=2)
+    return run_dir, results
+
+
+def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]) -> None:
+    run_dir, results = evaluated
+    on_disk = json.loads((run_dir / "results.json").read_text())
+    assert on_disk == json.loads(json.dumps(results))
+    assert set(on_disk["policies"]) == {"trained", "random", "scripted"}
+    for row in on_disk["policies"].values():
+        assert set(row) == set(on_disk["metrics"])
+        assert all(set(cell) == {"mean", "std"} for cell in row.values())
+    assert on_disk["episodes"] == 6 and on_disk["episode_seeds"] == [1000, 1005]
+    assert set(on_disk["targets"]) == {"beats_random_2x", "half_of_scripted"}
+    # The scripted player pots nearly every ball; the table must show it.
+    scripted, random = on_disk["policies"]["scripted"], on_disk["policies"]["random"]
+    assert scripted["potted"]["mean"] > random["potted"]["mean"]
+    table = (run_dir / "results.md").read_text().splitlines()
+    header = next(line for line in table if line.startswith("| policy |"))
+    assert [c.strip() for c in header.strip("|").split("|")][1:5] == EXPECTED_COLUMNS["Pool2D-v0"]
+    rows = [line for line in table if line.startswith("| ") and "---" not in line][1:]
+    assert [r.split("|")[1].strip() for r in rows] == [
+        "trained PPO", "random", "scripted (ghost ball)",
+    ]  # fmt: skip
+    assert all(len(r.strip("|").split("|")) == len(on_disk["metrics"]) + 1 for r in rows)
+    assert (run_dir / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    import imageio.v3 as iio
+
+    frames = iio.imread(run_dir / "agent.gif")
+    # The GIF encoder merges identical consecutive frames (the balls at rest), so the file
+    # may hold fewer frames than were rendered, never more.
+    assert frames.ndim == 4 and 2 < frames.shape[0] <= on_disk["video_frames"]
+
+
+def test_evaluation_is_deterministic(evaluated: tuple[Path, Any]) -> None:
+    run_dir, results = evaluated
+    again = evaluate.evaluate(run_dir, episodes=6, seed=1000, video=None)
+    assert again["policies"] == results["policies"]
+
+
+def test_slingshot_metrics_in_the_table(tmp_path: Path) -> None:
+    run_dir = _train(tmp_path / "run", "Slingshot2D-v0", "ppo", 32)
+    results = evaluate.evaluate(run_dir, episodes=3, seed=0, video=None)
+    labels = [spec["label"] for spec in results["metrics"].values()]
+    assert all(label in labels for label in EXPECTED_COLUMNS["Slingshot2D-v0"])
+    for row in results["policies"].values():
+        # Three birds: an episode uses one to three of them (it ends when a level is clear).
+        assert 1.0 <= row["birds_used"]["mean"] <= 3.0
+        assert 0.0 <= row["cleared"]["mean"] <= 1.0
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+@pytest.mark.parametrize("env", ["Pool2D-v0", "Slingshot2D-v0"])
+def test_shipped_hyperparameters_resolve(algo: str, env: str) -> None:
+    config = _config.resolve(algo, env)
+    assert config["n_timesteps"] > 0 and config["n_envs"] > 0
+    assert "env_kwargs" in config and config["policy"] == "MlpPolicy"
+    assert "gamma" in config["hyperparams"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--env", "Pong-v0"], "env must be one of"),
+        (["--algo", "dqn"], "algo must be one of"),
+        (["--timesteps", "0"], "timesteps must be > 0"),
+        (["--timesteps", "-5"], "timesteps must be > 0"),
+        (["--timesteps", "lots"], "timesteps must be a positive number"),
+        (["--timesteps", "2.5"], "timesteps must be a positive whole number"),
+        (["--num-envs", "0"], "num_envs must be > 0"),
+        (["--env-kwargs", "{num_balls: 1}"], "env_kwargs must be a JSON object"),
+        (["--env-kwargs", "[1]"], "env_kwargs must be a JSON object"),
+        (
+            ["--hyperparams", "learning_rat=0.1"],
+            "hyperparams: PPO has no parameter(s) ['learning_rat']",
+        ),
+        (["--hyperparams", "gamma"], "hyperparams must be key=value"),
+        (["--config", "/nonexistent.yml"], "config: no such file"),
+        (["--resume", "/nonexistent/model.zip"], "resume: no model file"),
+        (["--seed", "-1"], "seed must be an int >= 0"),
+    ],
+)
+def test_bad_training_input_names_the_parameter(
+    tmp_path: Path, argv: list[str], message: str
+) -> None:
+    with pytest.raises(ValueError, match="^" + _escape(message)):
+        train.main([*argv, "--run-dir", str(tmp_path / "run"), "--no-evaluate"])
+    assert not (tmp_path / "run" / "model.zip").exists()
+
+
+def test_bad_env_kwargs_fail_in_the_env(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="num_balls"):
+        _train(tmp_path / "run", "Pool2D-v0", "ppo", 16, "--env-kwargs", '{"num_balls": 0}')
+
+
+def test_bad_evaluation_input(tmp_path: Path, evaluated: tuple[Path, Any]) -> None:
+    with pytest.raises(ValueError, match=r"^run_dir: .* has no config\.yml"):
+        evaluate.evaluate(tmp_path)
+    run_dir, _ = evaluated
+    with pytest.raises(ValueError, match=r"^episodes must be > 0"):
+        evaluate.evaluate(run_dir, episodes=0)
+    with pytest.raises(ValueError, match=r"^video must be"):
+        evaluate.evaluate(run_dir, episodes=1, video="avi")
+
+
+def test_command_line_reports_bad_input_in_one_line() -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "agents.train", "--env", "Pong-v0"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode != 0
+    assert done.stderr.strip().splitlines()[-1].startswith("error: env must be one of")
+    assert "Traceback" not in done.stderr
+
+
+def _escape(text: str) -> str:
+    import re
+
+    return re.escape(text)
+
+
+def test_pool_relative_features_are_the_offsets_to_each_ball() -> None:
+    import gymnasium as gym
+    import torch
+    from agents._features import PoolRelativeFeatures
+
+    space = gym.spaces.Box(-1.0, 1.0, (9,), np.float32)  # cue ball and two object balls
+    extractor = PoolRelativeFeatures(space)
+    # Cue at (-0.635, 0) m; ball 1 at (0.635, 0.3175) m; ball 2 potted.
+    obs = torch.tensor([[-0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.0, 1.0]])
+    out = extractor(obs)[0].numpy()
+    assert out.shape == (9 + 12,) == (extractor.features_dim,)
+    assert np.allclose(out[:9], obs[0].numpy())  # the observation itself comes first
+    dx, dy = 1.27, 0.3175
+    dist = np.hypot(dx, dy)
+    ball1 = [dx, dy, dist, dx / dist, dy / dist, np.arctan2(dy, dx) / np.pi]
+    assert np.allclose(out[9:15], ball1, atol=1e-6)
+    assert np.all(out[15:] == 0.0)  # a potted ball reads as zeros
+
+
+def test_direction_vector_transform_maps_vectors_to_angles() -> None:
+    from agents._wrappers import direction_vector
+
+    out = direction_vector(np.array([[1.0, 0.0, 0.0], [0.0, 2.0, 5.0], [-1.0, -1e-9, -5.0]]))
+    assert out.dtype == np.float32 and out.shape == (3, 2)
+    assert np.allclose(out[:, 0], [0.0, 0.5, -1.0], atol=1e-6)  # +x, +y, just under -x
+    assert np.allclose(out[:, 1], np.tanh([0.0, 5.0, -5.0]))
