@@ -145,12 +145,17 @@ def resolve(
     env_kwargs: dict[str, Any] | None = None,
     overrides: dict[str, Any] | None = None,
     seed: Any = 0,
+    base: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """The full configuration of a run: the file's entry with the command line's values on
-    top, checked. Returns ``{"env_id", "algo", "seed", "n_timesteps", "n_envs",
-    "env_kwargs", "normalize", "policy", "action_transform", "hyperparams"}`` (plain
-    YAML-able values)."""
-    entry = load_hyperparams(algo, env_id, config_file)
+    """The full configuration of a run: the file's entry (or, with ``base``, a resolved
+    config such as a resumed run's) with the command line's values on top, checked.
+    Returns ``{"env_id", "algo", "seed", "n_timesteps", "n_envs", "env_kwargs",
+    "normalize", "policy", "action_transform", "hyperparams"}`` (plain YAML-able values)."""
+    if base is not None:
+        entry = {key: copy.deepcopy(base[key]) for key in RUN_KEYS if key in base}
+        entry.update(copy.deepcopy(base.get("hyperparams", {})))
+    else:
+        entry = load_hyperparams(algo, env_id, config_file)
     entry.update(overrides or {})
     if seed is None or isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ValueError(f"seed must be an int >= 0, got {seed!r}")

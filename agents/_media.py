@@ -33,11 +33,19 @@ def learning_curve(
     title: str,
     baselines: dict[str, float],
     trained: tuple[float, float] | None = None,
+    skip_before: int = 0,
 ) -> bool:
     """Plot the mean training-episode return against env steps, with the baselines'
     evaluation means as horizontal lines and the trained agent's evaluation (mean ± std of
-    the mean) at the end. Returns False (and draws nothing) if there is no data."""
+    the mean) at the end. Returns False (and draws nothing) if there is no data.
+
+    Rows before ``skip_before`` steps are left out: until every world has had time to
+    finish an episode, the finished ones are the short ones (in Pool, the pots), and their
+    mean says little about the policy."""
     steps, rewards = read_progress(run_dir / "progress.csv")
+    keep = steps >= skip_before
+    if keep.any():
+        steps, rewards = steps[keep], rewards[keep]
     if steps.size == 0:
         return False
     import matplotlib

@@ -1,6 +1,7 @@
 """Evaluate a trained agent beside the random and scripted players.
 
     python -m agents.evaluate --run-dir runs/Pool2D-v0_ppo_seed0 [--episodes 100] [--seed 1000]
+    python -m agents.evaluate --summarize runs/Pool2D-v0_ppo_seed* [--out results.md]
 
 The three policies play the same seeded episodes (episode ``k`` starts from env seed
 ``seed + k``, on the env variant the agent was trained on), the trained agent acting
@@ -12,6 +13,9 @@ twice gives the same numbers. Written to the run directory:
   destroyed, birds used, levels cleared), and whether the targets are met;
 * ``learning_curve.png``: the training return against env steps, with the baselines;
 * ``agent.gif`` (or ``.mp4``): the trained agent playing a few shots.
+
+``--summarize`` puts several evaluated runs (one per training seed) in one table: mean ±
+std over the seeds.
 """
 
 from __future__ import annotations
@@ -123,6 +127,7 @@ def evaluate(
             f"scripted: {task.scripted_name} ({reward['scripted']:.2f})": reward["scripted"],
         },
         trained=(reward["trained"], rows["trained"]["reward"]["std"] / np.sqrt(episodes)),
+        skip_before=config["n_envs"] * _episode_cap(task.env_id, env_kwargs),
     )
     if video is not None:
         frames = _media.record_video(
@@ -135,6 +140,15 @@ def evaluate(
     (run_dir / "results.md").write_text(table)
     print(table, flush=True)
     return results
+
+
+def _episode_cap(env_id: str, env_kwargs: dict[str, Any]) -> int:
+    """The most steps an episode can last (``max_episode_steps``)."""
+    import gymnasium as gym
+
+    import impulse2d  # noqa: F401  (registers the env ids)
+
+    return int(env_kwargs.get("max_episode_steps") or gym.spec(env_id).max_episode_steps or 1)
 
 
 def _targets(task: _tasks.Task, rows: dict[str, Any]) -> dict[str, Any]:
@@ -196,13 +210,67 @@ def format_table(results: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def summarize_runs(run_dirs: list[str | Path]) -> str:
+    """A Markdown table over several evaluated runs (e.g. one per training seed) of the
+    same env and algo: per policy and metric, mean ± std over the runs of each run's mean."""
+    if not run_dirs:
+        raise ValueError("summarize: give at least one run directory")
+    runs = []
+    for run_dir in run_dirs:
+        path = Path(run_dir) / "results.json"
+        if not path.is_file():
+            raise ValueError(f"summarize: {str(run_dir)!r} has no results.json (evaluate it)")
+        runs.append(json.loads(path.read_text()))
+    first = runs[0]
+    for run in runs[1:]:
+        same = (run["env_id"], run["algo"], run["env_kwargs"])
+        if same != (first["env_id"], first["algo"], first["env_kwargs"]):
+            raise ValueError("summarize: the runs differ in env, algo or env_kwargs")
+    labels = {key: spec["label"] for key, spec in first["metrics"].items()}
+    seeds = ", ".join(str(run["train_seed"]) for run in runs)
+    algo = first["algo"].upper()
+    lines = [
+        f"# {first['env_id']}: {algo}, {len(runs)} training seeds ({seeds}) vs random vs scripted",
+        "",
+        f"Each run evaluated on {first['episodes']} episodes (env seeds "
+        f"{first['episode_seeds'][0]}-{first['episode_seeds'][1]}); mean ± std over the "
+        "runs of each run's mean (random and scripted play the same episodes in every run, "
+        f"hence std 0). env_kwargs `{json.dumps(first['env_kwargs'])}`.",
+        "",
+        "| policy | " + " | ".join(labels.values()) + " |",
+        "|---|" + "---|" * len(labels),
+    ]
+    names = {
+        "trained": f"trained {algo}",
+        "random": "random",
+        "scripted": f"scripted ({first['scripted']})",
+    }
+    for key in POLICIES:
+        cells = []
+        for metric in labels:
+            values = np.array([run["policies"][key][metric]["mean"] for run in runs])
+            cells.append(f"{values.mean():.2f} ± {values.std():.2f}")
+        lines.append(f"| {names[key]} | " + " | ".join(cells) + " |")
+    met = {name: sum(run["targets"][name]["met"] for run in runs) for name in first["targets"]}
+    lines.append("")
+    lines += [f"* {name}: met in {count} of {len(runs)} runs" for name, count in met.items()]
+    return "\n".join(lines) + "\n"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m agents.evaluate",
         description="Compare a trained agent with the random and scripted players over the "
         "same seeded episodes; write results.md/json, learning_curve.png and a video.",
     )
-    parser.add_argument("--run-dir", required=True, help="a directory made by agents.train")
+    parser.add_argument("--run-dir", help="a directory made by agents.train")
+    parser.add_argument(
+        "--summarize",
+        nargs="+",
+        metavar="RUN_DIR",
+        help="instead: one table over these evaluated runs (mean ± std over training seeds)",
+    )
+    parser.add_argument("--out", help="with --summarize: also write the table to this file")
     parser.add_argument("--episodes", type=int, default=100, help="episodes (default 100)")
     parser.add_argument("--seed", type=int, default=1000, help="first episode seed (1000)")
     parser.add_argument("--video", choices=("gif", "mp4", "none"), default="gif")
@@ -210,8 +278,16 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> dict[str, Any]:
+def main(argv: list[str] | None = None) -> dict[str, Any] | str:
     args = build_parser().parse_args(argv)
+    if args.summarize:
+        table = summarize_runs(args.summarize)
+        if args.out:
+            Path(args.out).write_text(table)
+        print(table, end="", flush=True)
+        return table
+    if args.run_dir is None:
+        raise ValueError("run_dir: give --run-dir (or --summarize RUN_DIR ...)")
     video = None if args.video == "none" else args.video
     return evaluate(args.run_dir, args.episodes, args.seed, video, args.video_shots)
 

@@ -114,23 +114,11 @@ def train(
     previous_progress = _prepare_run_dir(run_dir, resume_path)
 
     seed = config["seed"]
-    if resume_path is not None:
-        model = cls.load(str(resume_path), device="cpu")
-        # A resumed run plays fresh episodes: its envs' seeds start past the steps done.
-        env_seed = seed + int(model.num_timesteps)
-        config = {**config, "resumed_from": str(resume_path)}
-        config["resumed_at_timesteps"] = int(model.num_timesteps)
-    else:
-        model, env_seed = None, seed
-    set_random_seed(env_seed)
-    if command is not None:
-        (run_dir / "command.txt").write_text(command + "\n")
-    _config.save_config(config, run_dir / "config.yml")
-
-    venv = make_vec_env(config, env_seed, monitor=run_dir)
+    set_random_seed(seed)
+    venv = make_vec_env(config, seed, monitor=run_dir)
     stats = resume_path.parent / "vecnormalize.pkl" if resume_path is not None else None
     venv = _normalized(venv, config, stats)
-    if model is None:
+    if resume_path is None:
         model = cls(
             config["policy"],
             venv,
@@ -140,8 +128,16 @@ def train(
             **_config.algo_kwargs(config),
         )
     else:
-        model.set_env(venv)
-        model.set_random_seed(env_seed)
+        # Loading with the env sizes the rollout buffer for this run's number of worlds.
+        model = cls.load(str(resume_path), env=venv, device="cpu")
+        steps_done = int(model.num_timesteps)
+        # A resumed run plays fresh episodes: env i is seeded seed + steps_done + i (this also
+        # seeds the sampling).
+        model.set_random_seed(seed + steps_done)
+        config = {**config, "resumed_from": str(resume_path), "resumed_at_timesteps": steps_done}
+    if command is not None:
+        (run_dir / "command.txt").write_text(command + "\n")
+    _config.save_config(config, run_dir / "config.yml")
     logger, note = _logger(run_dir)
     model.set_logger(logger)
     print(
@@ -250,8 +246,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Train PPO or SAC on Pool2D-v0 / Slingshot2D-v0 (hyperparameters from "
         "agents/hyperparams/<algo>.yml), then evaluate the agent.",
     )
-    parser.add_argument("--env", default="Pool2D-v0", help="env id (default Pool2D-v0)")
-    parser.add_argument("--algo", default="ppo", help="ppo or sac (default ppo)")
+    parser.add_argument("--env", default=None, help="env id (default Pool2D-v0)")
+    parser.add_argument("--algo", default=None, help="ppo or sac (default ppo)")
     parser.add_argument("--timesteps", default=None, help="env steps, e.g. 2e5 (default: YAML)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--num-envs", default=None, help="worlds in the batch (default: YAML)")
@@ -283,8 +279,18 @@ def main(argv: list[str] | None = None) -> Path:
     """The command line: resolve the config, train, and evaluate unless told not to."""
     args = build_parser().parse_args(argv)
     argv = sys.argv[1:] if argv is None else argv
-    env_id = _config.check_env_id(args.env)
-    algo = _config.check_algo(args.algo)
+    base = None
+    if args.resume is not None:
+        # Go on with the resumed run's own settings (env variant, worlds, algorithm
+        # arguments), not the YAML's, which may have changed since.
+        saved = _check_resume(args.resume).parent / "config.yml"
+        base = _config.load_config(saved.parent) if saved.is_file() else None
+    env_id = _config.check_env_id(args.env or (base or {}).get("env_id", "Pool2D-v0"))
+    algo = _config.check_algo(args.algo or (base or {}).get("algo", "ppo"))
+    if base is not None and (base["env_id"], base["algo"]) != (env_id, algo):
+        raise ValueError(
+            f"resume: the model is {base['algo']} on {base['env_id']}, not {algo} on {env_id}"
+        )
     config = _config.resolve(
         algo,
         env_id,
@@ -294,6 +300,7 @@ def main(argv: list[str] | None = None) -> Path:
         env_kwargs=_config.parse_json_kwargs("env_kwargs", args.env_kwargs),
         overrides=_config.parse_overrides(args.hyperparams),
         seed=args.seed,
+        base=base if args.config is None else None,
     )
     if args.resume is None and args.run_dir is None:
         run_dir = default_run_dir(env_id, algo, args.seed)

@@ -101,11 +101,9 @@ def test_resume_continues_the_timesteps_and_the_log(tmp_path: Path) -> None:
     first = _train(tmp_path / "run", steps=64)
     before = json.loads((first / "training.json").read_text())["num_timesteps"]
     params = _params(first, "ppo")
-    argv = [
-        "--env", "Pool2D-v0", "--algo", "ppo", "--timesteps", "32", "--env-kwargs", SHORT,
-        "--num-envs", "4", "--resume", str(first / "model.zip"), "--no-progress-bar",
-        "--no-evaluate",
-    ]  # fmt: skip
+    # No --env, --algo, --num-envs or --env-kwargs: a resumed run keeps its own settings.
+    argv = ["--timesteps", "32", "--resume", str(first / "model.zip"), "--no-progress-bar",
+            "--no-evaluate"]  # fmt: skip
     run_dir = train.main(argv)
     assert run_dir == first  # by default a resumed run goes on in its own directory
     after = json.loads((run_dir / "training.json").read_text())
@@ -116,6 +114,7 @@ def test_resume_continues_the_timesteps_and_the_log(tmp_path: Path) -> None:
     config = yaml.safe_load((run_dir / "config.yml").read_text())
     assert config["resumed_from"].endswith("model.zip")
     assert config["resumed_at_timesteps"] == before
+    assert config["n_envs"] == 4 and config["env_kwargs"]["max_shot_seconds"] == 2.0
     moved = _params(run_dir, "ppo")
     assert not all(np.array_equal(x, y) for x, y in zip(params, moved, strict=True))
 
@@ -161,6 +160,20 @@ def test_evaluation_is_deterministic(evaluated: tuple[Path, Any]) -> None:
     run_dir, results = evaluated
     again = evaluate.evaluate(run_dir, episodes=6, seed=1000, video=None)
     assert again["policies"] == results["policies"]
+
+
+def test_summary_over_runs(evaluated: tuple[Path, Any], tmp_path: Path) -> None:
+    run_dir, results = evaluated
+    out = tmp_path / "summary.md"
+    table = evaluate.main(["--summarize", str(run_dir), str(run_dir), "--out", str(out)])
+    assert out.read_text() == table
+    assert "2 training seeds (0, 0)" in table
+    trained = next(line for line in table.splitlines() if line.startswith("| trained PPO"))
+    mean = results["policies"]["trained"]["reward"]["mean"]
+    assert trained.split("|")[2].strip() == f"{mean:.2f} ± 0.00"  # two equal runs: std 0
+    assert "beats_random_2x: met in" in table
+    with pytest.raises(ValueError, match=r"^summarize: .* has no results\.json"):
+        evaluate.summarize_runs([tmp_path])
 
 
 def test_slingshot_metrics_in_the_table(tmp_path: Path) -> None:
@@ -211,6 +224,12 @@ def test_bad_training_input_names_the_parameter(
     with pytest.raises(ValueError, match="^" + _escape(message)):
         train.main([*argv, "--run-dir", str(tmp_path / "run"), "--no-evaluate"])
     assert not (tmp_path / "run" / "model.zip").exists()
+
+
+def test_resume_refuses_another_algorithm(tmp_path: Path) -> None:
+    first = _train(tmp_path / "run", steps=32)
+    with pytest.raises(ValueError, match=r"^resume: the model is ppo on Pool2D-v0, not sac"):
+        train.main(["--resume", str(first), "--algo", "sac", "--no-evaluate"])
 
 
 def test_bad_env_kwargs_fail_in_the_env(tmp_path: Path) -> None:
