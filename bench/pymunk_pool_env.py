@@ -260,11 +260,14 @@ def _cue_spot(rng: np.random.Generator, placed: list) -> np.ndarray:
 
 
 class _Runner:
-    """Plays shots on a set of tables and records them (subclasses: the two models)."""
+    """Plays shots on a set of tables, from the first shot it launches on each, and records
+    them (subclasses: the two models)."""
 
     def __init__(self, tables: list[Table]) -> None:
         self.tables = tables
         self.reset()
+        for table in tables:
+            table.launch()
 
     def reset(self) -> None:
         self.shot_steps: list[int] = []
@@ -283,8 +286,6 @@ class _JointRunner(_Runner):
     def __init__(self, tables: list[Table]) -> None:
         super().__init__(tables)
         self.turn = 0
-        for table in tables:
-            table.launch()
 
     def run(self, shots: int, progress: Callable[[int], None] | None = None) -> None:
         for _ in range(shots):
@@ -320,8 +321,6 @@ class _NumpyRunner(_Runner):
         self.read, self.write, self.ids = pb.Buffer(), pb.Buffer(), pb.Buffer()
         self.dirty = set(range(len(tables)))  # tables whose row order must be re-read
         self.slots: list[np.ndarray] = [np.zeros(0, np.int64)] * len(tables)
-        for table in tables:
-            table.launch()
 
     def _layout(self) -> None:
         """Row bookkeeping after bodies were added or removed: each row's timer index and
@@ -432,9 +431,10 @@ def play_shots(
 
     Returns ``shots``, ``seconds``, ``shots_per_s``, ``t0``/``t1`` (``perf_counter`` at
     the start and end), ``steps`` (physics steps of every timed shot), ``pots`` (whether
-    each potted an object ball), ``mean_steps``, ``pot_fraction``, ``capped`` (shots stopped by the
-    20 s cap), ``escaped`` (balls found past a cushion line away from every pocket) and
-    ``python_share`` (numpy model: share of the time outside ``space.step``; else None).
+    each potted an object ball), ``mean_steps``, ``pot_fraction``, ``capped`` (shots
+    stopped by the 20 s cap), ``escaped`` (balls found past a cushion line away from every
+    pocket) and ``python_share`` (numpy model: share of the time outside ``space.step``;
+    else None).
     """
     seeds = np.random.SeedSequence(seed).spawn(tables)
     tabs = [Table(np.random.default_rng(s), model) for s in seeds]
@@ -530,15 +530,10 @@ def play_shots_parallel(
     for p in workers:
         p.join()
     t0, t1 = min(o["t0"] for o in outs), max(o["t1"] for o in outs)
+    steps, pots = [s for o in outs for s in o["steps"]], [p for o in outs for p in o["pots"]]
     shares = [o["python_share"] for o in outs]
-    res = _result(
-        t0,
-        t1,
-        [s for o in outs for s in o["steps"]],
-        [p for o in outs for p in o["pots"]],
-        sum(o["escaped"] for o in outs),
-        None if None in shares else float(np.mean(shares)),
-    )
+    share = None if None in shares else float(np.mean(shares))
+    res = _result(t0, t1, steps, pots, sum(o["escaped"] for o in outs), share)
     res["per_process"] = [o["shots_per_s"] for o in outs]
     return res
 

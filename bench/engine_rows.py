@@ -1,0 +1,467 @@
+"""The rows of the engine benchmark's table (``bench/bench_engine.py``), one function a section.
+
+Each section runs impulse2d (``bench/engine_runs.py``) and pymunk (``bench/pymunk_peer.py``)
+on one scene as the :class:`Plan` says, and appends its rows to the table: the pool break at
+one world and in a batch (and with one substep), the batch against the single world, the
+pool-break checks, the varied-shot batch, the pyramids and the rain. ``bench_engine.main``
+calls them in that order and prints the table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+try:  # imported as part of the repo (``bench.engine_rows``) ...
+    from bench import pymunk_peer
+    from bench.engine_runs import (
+        POOL_SUBSTEPS,
+        _single_positions,
+        _stage,
+        pool_break_impulse2d,
+        pool_check_impulse2d,
+        pool_energy_pymunk,
+        pyramid_impulse2d,
+        rain_impulse2d,
+    )
+    from bench.scenes import PoolBreak, Rain, pool_cue_offsets
+except ImportError:  # ... or run as a script, with bench/ on sys.path
+    import pymunk_peer
+    from engine_runs import (
+        POOL_SUBSTEPS,
+        _single_positions,
+        _stage,
+        pool_break_impulse2d,
+        pool_check_impulse2d,
+        pool_energy_pymunk,
+        pyramid_impulse2d,
+        rain_impulse2d,
+    )
+    from scenes import PoolBreak, Rain, pool_cue_offsets
+
+# -- settings of the sections (the others are in bench_engine.py) ----------------------------
+PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
+PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
+MEAN_STEP_TARGET_US = 100.0
+PYRAMID_RATIO_TARGET = 5.0
+
+Row = tuple[str, ...]  # one line of the table: scene, worlds, impulse2d, pymunk, ratio, notes
+Runs = dict[tuple[int, bool], dict]  # impulse2d's pool runs by (worlds, sleeping)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What this run measures, from the command line (``--quick`` shortens everything)."""
+
+    quick: bool
+    budget: float  # seconds per impulse2d batch run
+    positions: bool  # print the final ball positions
+    scene: PoolBreak  # the pool break, validated
+    pool_steps: int
+    n_worlds: int  # worlds in the batch runs
+    single_repeats: int  # single-world impulse2d pool runs
+    batch_repeats: int  # batch pool runs of each engine
+    pyr_steps: int  # timed pyramid steps
+    drift_steps: int  # pyramid steps before the drift is measured
+    dt_pyr: float
+    rain_counts: tuple[int, ...]
+    rain_repeats: int
+    rain_scene: Rain  # the smallest rain, for its description and step counts
+
+
+def _paired_runs(first: Any, second: Any, repeats: int) -> tuple[dict, dict]:
+    """Run two benchmarks alternately ``repeats`` times each (so a busy spell on this shared
+    machine slows both alike) and keep the run of median speed of each."""
+    runs: tuple[list[dict], list[dict]] = ([], [])
+    for _ in range(repeats):
+        runs[0].append(first())
+        runs[1].append(second())
+    return tuple(sorted(r, key=lambda x: x["world_steps_per_s"])[repeats // 2] for r in runs)
+
+
+def _median_run(run: Any, repeats: int) -> dict:
+    """Run a benchmark ``repeats`` times and keep the run of median speed."""
+    runs = sorted((run() for _ in range(repeats)), key=lambda r: r["world_steps_per_s"])
+    return runs[len(runs) // 2]
+
+
+# -- table -----------------------------------------------------------------------------------
+def _fmt(value: float | None, digits: int = 3) -> str:
+    """A number for the table: thousands separators for big ones, 3 significant digits else."""
+    if value is None:
+        return "-"
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, str):
+        return value
+    if not math.isfinite(value):
+        return str(value)
+    if abs(value) >= 1000:
+        return f"{value:,.0f}"
+    return f"{value:.{digits}g}"
+
+
+def _ratio(a: float | None, b: float | None) -> str:
+    if a is None or b is None or b == 0:
+        return "-"
+    return f"{a / b:.3g}"
+
+
+def _ok(flag: bool) -> str:
+    return "ok" if flag else "MISS"
+
+
+# -- pool break ------------------------------------------------------------------------------
+def _pool_rows(plan: Plan, imp: Runs, n: int, pm: dict) -> list[Row]:
+    """Rate rows of the pool break at ``n`` worlds against pymunk's run ``pm``, sleeping on
+    and off; at one world also the mean time per step against its target."""
+    rows: list[Row] = []
+    pool_steps = plan.pool_steps
+    for sleeping in (True, False):
+        r = imp[(n, sleeping)]
+        tag = "" if sleeping else ", no sleep"
+        who = "impulse2d sleeping on" if sleeping else "impulse2d sleeping=False"
+        partial = (
+            f"; first {r['steps']} of {pool_steps} steps (budget {plan.budget:g} s)"
+            if r["steps"] < pool_steps
+            else f"; {r['steps']} steps"
+        )
+        if n > 1 and pool_steps != r["steps"]:  # pymunk's batch runs have no budget
+            partial += f"; pymunk {pool_steps} steps"
+        ws_i, ws_p = r["world_steps_per_s"], pm["world_steps_per_s"]
+        rows.append(
+            (
+                f"pool break{tag}: world-steps/s",
+                str(n),
+                _fmt(ws_i),
+                _fmt(ws_p),
+                _ratio(ws_i, ws_p),
+                who + partial,
+            )
+        )
+        rows.append(
+            (
+                f"pool break{tag}: us/world-step",
+                str(n),
+                _fmt(1e6 / ws_i),
+                _fmt(1e6 / ws_p),
+                _ratio(1e6 / ws_i, 1e6 / ws_p),
+                "lower is better",
+            )
+        )
+        if n == 1:
+            us = r["step_us"]
+            mean = float(us.mean())
+            rows.append(
+                (
+                    f"pool break{tag}: mean us/step",
+                    "1",
+                    _fmt(mean),
+                    "-",
+                    "-",
+                    f"target < {MEAN_STEP_TARGET_US:g} us: {_ok(mean < MEAN_STEP_TARGET_US)}; "
+                    f"median {np.median(us):.0f}, max {us.max():.0f} us "
+                    f"(step {int(us.argmax()) + 1})",
+                )
+            )
+    return rows
+
+
+def pool_single_world(plan: Plan, imp: Runs, rows: list[Row]) -> dict:
+    """Time the pool break in one world: impulse2d sleeping on and off (median run, and
+    whether the repeats ended identically) and pymunk. Returns pymunk's median run."""
+    single_repeats = plan.single_repeats
+    for sleeping in (True, False):
+        _stage(f"impulse2d pool break, 1 world, sleeping={sleeping}")
+        runs = [
+            pool_break_impulse2d(1, plan.pool_steps, POOL_SUBSTEPS, sleeping)
+            for _ in range(single_repeats)
+        ]
+        deterministic = all(
+            np.array_equal(r["final_positions"], runs[0]["final_positions"]) for r in runs
+        )
+        res = sorted(runs, key=lambda r: r["seconds"])[single_repeats // 2]
+        res["deterministic"] = deterministic
+        imp[(1, sleeping)] = res
+    _stage("pymunk pool break, 1 world")
+    pm_runs = [
+        pymunk_peer.pool_break_pymunk(1, plan.pool_steps) for _ in range(PYMUNK_SINGLE_REPEATS)
+    ]
+    pm1 = sorted(pm_runs, key=lambda r: r["seconds"])[PYMUNK_SINGLE_REPEATS // 2]
+    rows += _pool_rows(plan, imp, 1, pm1)
+    return pm1
+
+
+def pool_batch(plan: Plan, imp: Runs, rows: list[Row]) -> dict:
+    """Time the pool break in ``plan.n_worlds`` worlds: impulse2d sleeping on alternating with
+    pymunk, then impulse2d sleeping off. Returns pymunk's median run."""
+    n_worlds, pool_steps, budget = plan.n_worlds, plan.pool_steps, plan.budget
+    _stage(f"impulse2d and pymunk pool break, {n_worlds} worlds, alternating")
+    imp[(n_worlds, True)], pmN = _paired_runs(
+        lambda: pool_break_impulse2d(n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=budget),
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, pool_steps),
+        plan.batch_repeats,
+    )
+    _stage(f"impulse2d pool break, {n_worlds} worlds, sleeping=False")
+    imp[(n_worlds, False)] = _median_run(
+        lambda: pool_break_impulse2d(n_worlds, pool_steps, POOL_SUBSTEPS, False, budget_s=budget),
+        plan.batch_repeats,
+    )
+    rows += _pool_rows(plan, imp, n_worlds, pmN)
+    return pmN
+
+
+def pool_one_substep(plan: Plan, pmN: dict, rows: list[Row]) -> None:
+    """The same batch with one substep: cheaper, at the cost of deeper overlaps in the rack."""
+    n_worlds, pool_steps = plan.n_worlds, plan.pool_steps
+    _stage(f"impulse2d pool break, {n_worlds} worlds, substeps=1")
+    one = _median_run(
+        lambda: pool_break_impulse2d(n_worlds, pool_steps, 1, True, budget_s=plan.budget),
+        plan.batch_repeats,
+    )
+    one_check = pool_check_impulse2d(pool_steps, 1, True)
+    rows.append(
+        (
+            "pool break, substeps=1: world-steps/s",
+            str(n_worlds),
+            _fmt(one["world_steps_per_s"]),
+            _fmt(pmN["world_steps_per_s"]),
+            _ratio(one["world_steps_per_s"], pmN["world_steps_per_s"]),
+            f"impulse2d sleeping on, 1 substep (h = 1/120 s); deepest ball overlap "
+            f"{one_check['max_overlap_m'] * 1e3:.1f} mm (2 substeps: see below); pymunk as above",
+        )
+    )
+
+
+def pool_batch_matches_single(plan: Plan, imp: Runs, rows: list[Row]) -> None:
+    """World 0 of each batch run against the single world, bitwise (replayed untimed over
+    the same steps when the batch stopped early)."""
+    n_worlds = plan.n_worlds
+    for sleeping in (True, False):
+        r = imp[(n_worlds, sleeping)]
+        if r["steps"] == plan.pool_steps:
+            single = imp[(1, sleeping)]["final_positions"]
+        else:
+            _stage(f"impulse2d single-world replay of {r['steps']} steps")
+            single = _single_positions(r["steps"], POOL_SUBSTEPS, sleeping)
+        equal = bool(np.array_equal(r["final_positions"], single))
+        diff = float(np.abs(r["final_positions"] - single).max())
+        tag = "" if sleeping else ", no sleep"
+        rows.append(
+            (
+                f"pool break{tag}: world 0 == 1 world",
+                str(n_worlds),
+                str(equal),
+                "-",
+                "-",
+                f"bitwise, after {r['steps']} steps (max |diff| {diff:.3g} m); all {n_worlds} "
+                f"worlds identical: {r['worlds_identical']}; 1-world repeats identical: "
+                f"{imp[(1, sleeping)]['deterministic']}",
+            )
+        )
+
+
+def pool_checks(plan: Plan, imp: Runs, pm1: dict, rows: list[Row]) -> None:
+    """Replay the single-world break untimed (:func:`pool_check_impulse2d`): momentum, energy,
+    balls on the table and overlaps, against pymunk's single-world run ``pm1``."""
+    scene, pool_steps = plan.scene, plan.pool_steps
+    _stage("impulse2d pool break, untimed check replay")
+    chk = pool_check_impulse2d(pool_steps, POOL_SUBSTEPS, True)
+    replay_same = bool(np.array_equal(chk["final_positions"], imp[(1, True)]["final_positions"]))
+    rows.append(
+        (
+            "pool break: momentum rel. error",
+            "1",
+            f"{chk['momentum_error']:.1e}",
+            f"{pm1['momentum_error']:.1e}",
+            "-",
+            f"vs P0 exp(-0.7 t) until first cushion contact: {chk['momentum_window_s']:.3f} s "
+            f"(pymunk {pm1['momentum_window_s']:.3f} s)",
+        )
+    )
+    pm_gain, pm_gain_step = pool_energy_pymunk(pool_steps)
+    rows.append(
+        (
+            "pool break: max energy gain",
+            "1",
+            f"{chk['energy_gain']:.4f}",
+            f"{pm_gain:.4f}",
+            "-",
+            f"max KE(t) / (KE0 exp(-1.4 t)), must be <= 1; at step {chk['energy_gain_step']} "
+            f"(pymunk step {pm_gain_step})",
+        )
+    )
+    half = np.array(scene.play_area) / 2
+    pm_final = pm1["final_positions"]
+    pm_on = int(np.sum(np.all(np.abs(pm_final) < half, axis=1)))
+    n_balls = scene.n_balls
+    rows.append(
+        (
+            "pool break: balls on table",
+            "1",
+            f"{chk['on_table']}/{n_balls}",
+            f"{pm_on}/{n_balls}",
+            "-",
+            f"finite: {chk['finite'] and all(r['finite'] for r in imp.values())}; replay == timed "
+            f"run: {replay_same}",
+        )
+    )
+    rows.append(
+        (
+            "pool break: max overlap (mm)",
+            "1",
+            _fmt(1e3 * chk["max_overlap_m"]),
+            "-",
+            "-",
+            f"deepest ball-ball overlap after any step; deepest past a cushion face "
+            f"{1e3 * chk['max_penetration_m']:.3g} mm",
+        )
+    )
+
+
+def pool_varied_shots(plan: Plan, imp: Runs, rows: list[Row]) -> None:
+    """The batch with one shot per world (the realistic RL case), both engines alternating,
+    then worlds of the batch against single worlds built at their offsets, bitwise."""
+    n_worlds, pool_steps = plan.n_worlds, plan.pool_steps
+    offsets = pool_cue_offsets(n_worlds)
+    _stage(f"impulse2d and pymunk pool break, varied shots, {n_worlds} worlds, alternating")
+    var, pmV = _paired_runs(
+        lambda: pool_break_impulse2d(
+            n_worlds, pool_steps, POOL_SUBSTEPS, True, budget_s=plan.budget, cue_y_offsets=offsets
+        ),
+        lambda: pymunk_peer.pool_break_pymunk(n_worlds, pool_steps, offsets),
+        plan.batch_repeats,
+    )
+    ws_i, ws_p = var["world_steps_per_s"], pmV["world_steps_per_s"]
+    same_shot = imp[(n_worlds, True)]
+    vs_same = (
+        f"; x{ws_i / same_shot['world_steps_per_s']:.2f} the identical-shot impulse2d rate"
+        if same_shot["steps"] == var["steps"]
+        else ""
+    )
+    steps_note = (
+        f"first {var['steps']} of {pool_steps} steps (budget {plan.budget:g} s)"
+        if var["steps"] < pool_steps
+        else f"{var['steps']} steps"
+    )
+    rows.append(
+        (
+            "pool break, varied shots: world-steps/s",
+            str(n_worlds),
+            _fmt(ws_i),
+            _fmt(ws_p),
+            _ratio(ws_i, ws_p),
+            f"impulse2d sleeping on (its default), pymunk sleeping off as elsewhere; "
+            f"{steps_note}{vs_same}",
+        )
+    )
+    rows.append(
+        (
+            "pool break, varied shots: us/world-step",
+            str(n_worlds),
+            _fmt(1e6 / ws_i),
+            _fmt(1e6 / ws_p),
+            _ratio(1e6 / ws_i, 1e6 / ws_p),
+            "lower is better",
+        )
+    )
+    # World i of the batch (cue moved with the batch setter) against a single world built
+    # directly from pool_break(offsets[i]): the setter must give the same start.
+    batch_final = var["final_batch"]
+    checked = sorted({0, n_worlds - 1})
+    _stage(f"impulse2d single-world replays of varied shots {checked}")
+    diffs = [
+        float(
+            np.abs(
+                batch_final[:, i, :]
+                - _single_positions(var["steps"], POOL_SUBSTEPS, True, float(offsets[i]))
+            ).max()
+        )
+        for i in checked
+    ]
+    distinct = len({batch_final[:, i, :].tobytes() for i in range(n_worlds)})
+    rows.append(
+        (
+            "pool break, varied shots: world i == 1 world",
+            str(n_worlds),
+            str(all(d == 0.0 for d in diffs)),
+            "-",
+            "-",
+            f"bitwise, worlds {checked} against single worlds built at their offsets (max |diff| "
+            f"{max(diffs):.3g} m); {distinct} of {n_worlds} final states distinct; finite: "
+            f"{var['finite']}; pymunk world 0 momentum err {pmV['momentum_error']:.1e}",
+        )
+    )
+
+
+# -- pyramids --------------------------------------------------------------------------------
+def pyramids(plan: Plan, rows: list[Row]) -> None:
+    """Box pyramids of base 10 and 20: time per step and drift, both engines."""
+    pyr_steps, drift_steps = plan.pyr_steps, plan.drift_steps
+    for base in (10, 20):
+        _stage(f"pyramid base {base}")
+        ri = pyramid_impulse2d(base, pyr_steps, drift_steps, repeats=PYRAMID_REPEATS)
+        pm_runs = [pymunk_peer.pyramid_pymunk(base, pyr_steps, drift_steps) for _ in range(3)]
+        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[1]
+        ratio = ri["ms_per_step"] / rp["ms_per_step"]
+        rows.append(
+            (
+                f"pyramid base {base}: ms/step",
+                "1",
+                _fmt(ri["ms_per_step"]),
+                _fmt(rp["ms_per_step"]),
+                _ratio(ri["ms_per_step"], rp["ms_per_step"]),
+                f"target ratio <= {PYRAMID_RATIO_TARGET:g}: {_ok(ratio <= PYRAMID_RATIO_TARGET)}",
+            )
+        )
+        rows.append(
+            (
+                f"pyramid base {base}: top drift (m)",
+                "1",
+                f"{ri['top_drift_m']:.4f}",
+                f"{rp['top_drift_m']:.4f}",
+                _ratio(ri["top_drift_m"], rp["top_drift_m"]),
+                f"after {drift_steps * plan.dt_pyr:g} s; target <= pymunk: "
+                f"{_ok(ri['top_drift_m'] <= rp['top_drift_m'])}; max drift "
+                f"{ri['max_drift_m']:.4f} / {rp['max_drift_m']:.4f} m; finite: {ri['finite']}",
+            )
+        )
+
+
+# -- rain: cost against scene size -----------------------------------------------------------
+def rains(plan: Plan, rows: list[Row]) -> None:
+    """The rain at each of ``plan.rain_counts`` bodies: time per step, both engines, and how
+    it grows from the previous count."""
+    rain_scene, rain_repeats = plan.rain_scene, plan.rain_repeats
+    previous: tuple[int, dict, dict] | None = None
+    for count in plan.rain_counts:
+        _stage(f"rain {count} bodies (impulse2d builds, settles and steps, then pymunk)")
+        ri = rain_impulse2d(count, rain_scene.steps, rain_scene.settle_steps, repeats=rain_repeats)
+        pm_runs = [
+            pymunk_peer.rain_pymunk(count, rain_scene.steps, rain_scene.settle_steps)
+            for _ in range(rain_repeats)
+        ]
+        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[rain_repeats // 2]
+        growth = ""
+        if previous is not None:
+            n0, ri0, rp0 = previous
+            growth = (
+                f"x{ri['ms_per_step'] / ri0['ms_per_step']:.2f} for {count / n0:g}x the bodies "
+                f"(pymunk x{rp['ms_per_step'] / rp0['ms_per_step']:.2f}); "
+            )
+        rows.append(
+            (
+                f"rain {count} bodies: ms/step",
+                "1",
+                _fmt(ri["ms_per_step"]),
+                _fmt(rp["ms_per_step"]),
+                _ratio(ri["ms_per_step"], rp["ms_per_step"]),
+                f"{growth}mean height {ri['mean_y']:.3f} / {rp['mean_y']:.3f} m; finite: "
+                f"{ri['finite'] and rp['finite']}; repeats identical: "
+                f"{ri['repeats_identical']}; impulse2d build {ri['build_s']:.1f} s (untimed)",
+            )
+        )
+        previous = (count, ri, rp)
