@@ -10,9 +10,21 @@ from __future__ import annotations
 
 from typing import Any
 
-from ._config import ALGOS, ENV_IDS, resolve
+from ._config import ALGOS, ENV_IDS, algo_kwargs, resolve
 
-__all__ = ["ALGOS", "ENV_IDS", "evaluate", "resolve", "train"]
+# For scripts and notebooks that build the model themselves: ``resolve`` the YAML entry,
+# ``make_vec_env`` the training env, ``PPO(config["policy"], venv, **algo_kwargs(config))``,
+# and ``agent_policy(model, config)`` to play it on the env's own actions.
+__all__ = [
+    "ALGOS",
+    "ENV_IDS",
+    "agent_policy",
+    "algo_kwargs",
+    "evaluate",
+    "make_vec_env",
+    "resolve",
+    "train",
+]
 
 
 def __getattr__(name: str) -> Any:
@@ -22,8 +34,16 @@ def __getattr__(name: str) -> Any:
         from .train import train
 
         return train
+    if name == "make_vec_env":
+        from .train import make_vec_env
+
+        return make_vec_env
     if name == "evaluate":
         from .evaluate import evaluate
 
         return evaluate
+    if name == "agent_policy":
+        from .evaluate import agent_policy
+
+        return agent_policy
     raise AttributeError(f"module 'agents' has no attribute {name!r}")

@@ -79,6 +79,49 @@ def learning_curve(
     return True
 
 
+def seed_curves(
+    runs: list[tuple[Path, str, float]],
+    out: Path,
+    title: str,
+    baselines: dict[str, float],
+    skip_before: int = 0,
+) -> bool:
+    """Several training runs of one config in one plot: each run's mean training-episode
+    return against env steps (``runs``: run directory, label, evaluated mean reward, drawn
+    as a dot at the end of its curve), and the baselines' evaluation means as lines.
+    Returns False (and draws nothing) if no run has data."""
+    curves = []
+    for run_dir, label, evaluated in runs:
+        steps, rewards = read_progress(run_dir / "progress.csv")
+        keep = steps >= skip_before
+        if keep.any():
+            curves.append((steps[keep], rewards[keep], label, evaluated))
+    if not curves:
+        return False
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=110)
+    for index, (steps, rewards, label, evaluated) in enumerate(curves):
+        colour = plt.get_cmap("Blues")(0.45 + 0.5 * index / max(1, len(curves) - 1))
+        ax.plot(steps, rewards, color=colour, lw=1.2, label=f"{label}: training episodes")
+        ax.plot([steps[-1]], [evaluated], "o", color=colour, label=f"{label}: evaluated")
+    for name, value in baselines.items():
+        colour = "tab:red" if name.startswith("random") else "tab:green"
+        ax.axhline(value, ls="--", color=colour, label=name)
+    ax.set_xlabel("env steps (shots)")
+    ax.set_ylabel("reward / episode")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right", ncol=2)  # the curves rise to the top right
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+    return True
+
+
 def record_video(
     env_id: str,
     env_kwargs: dict[str, Any],

@@ -1,7 +1,7 @@
 """Evaluate a trained agent beside the random and scripted players.
 
     python -m agents.evaluate --run-dir runs/Pool2D-v0_ppo_seed0 [--episodes 100] [--seed 1000]
-    python -m agents.evaluate --summarize runs/Pool2D-v0_ppo_seed* [--out results.md]
+    python -m agents.evaluate --summarize runs/Pool2D-v0_ppo_seed* [--out FILE] [--plot PNG]
 
 The three policies play the same seeded episodes (episode ``k`` starts from env seed
 ``seed + k``, on the env variant the agent was trained on), the trained agent acting
@@ -54,6 +54,13 @@ def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
             normalizer = pickle.load(file)
         normalizer.training = False
 
+    return agent_policy(model, config, normalizer), config
+
+
+def agent_policy(model: Any, config: dict[str, Any], normalizer: Any = None) -> _tasks.Policy:
+    """A trained SB3 model as a batch policy on the env's own actions: observations
+    (normalized if the run used ``VecNormalize``) -> the model's deterministic action ->
+    the config's action transform, if any."""
     transform = None
     if config.get("action_transform"):
         from ._wrappers import TRANSFORMS
@@ -68,7 +75,7 @@ def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
             action = transform(action)
         return np.asarray(action, np.float32)
 
-    return policy, config
+    return policy
 
 
 def random_policy(seed: int) -> _tasks.Policy:
@@ -127,7 +134,7 @@ def evaluate(
             f"scripted: {task.scripted_name} ({reward['scripted']:.2f})": reward["scripted"],
         },
         trained=(reward["trained"], rows["trained"]["reward"]["std"] / np.sqrt(episodes)),
-        skip_before=config["n_envs"] * _episode_cap(task.env_id, env_kwargs),
+        skip_before=_skip_before(run_dir),
     )
     if video is not None:
         frames = _media.record_video(
@@ -140,6 +147,13 @@ def evaluate(
     (run_dir / "results.md").write_text(table)
     print(table, flush=True)
     return results
+
+
+def _skip_before(run_dir: Path) -> int:
+    """The steps before every world of a run can have finished an episode (see
+    ``_media.learning_curve``)."""
+    config = _config.load_config(run_dir)
+    return config["n_envs"] * _episode_cap(config["env_id"], config["env_kwargs"])
 
 
 def _episode_cap(env_id: str, env_kwargs: dict[str, Any]) -> int:
@@ -210,9 +224,10 @@ def format_table(results: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def summarize_runs(run_dirs: list[str | Path]) -> str:
+def summarize_runs(run_dirs: list[str | Path], plot: str | Path | None = None) -> str:
     """A Markdown table over several evaluated runs (e.g. one per training seed) of the
-    same env and algo: per policy and metric, mean ± std over the runs of each run's mean."""
+    same env and algo: per policy and metric, mean ± std over the runs of each run's mean.
+    With ``plot``, also a PNG of every run's learning curve beside the baselines."""
     if not run_dirs:
         raise ValueError("summarize: give at least one run directory")
     runs = []
@@ -251,6 +266,26 @@ def summarize_runs(run_dirs: list[str | Path]) -> str:
             values = np.array([run["policies"][key][metric]["mean"] for run in runs])
             cells.append(f"{values.mean():.2f} ± {values.std():.2f}")
         lines.append(f"| {names[key]} | " + " | ".join(cells) + " |")
+    if plot is not None:
+        _media.seed_curves(
+            [
+                (
+                    Path(run_dir),
+                    f"seed {run['train_seed']}",
+                    run["policies"]["trained"]["reward"]["mean"],
+                )
+                for run_dir, run in zip(run_dirs, runs, strict=True)
+            ],
+            Path(plot),
+            f"{algo} on {first['env_id']}: {len(runs)} training seeds",
+            {
+                "random, evaluated": first["policies"]["random"]["reward"]["mean"],
+                f"scripted ({first['scripted']}), evaluated": first["policies"]["scripted"][
+                    "reward"
+                ]["mean"],
+            },
+            skip_before=_skip_before(Path(run_dirs[0])),
+        )
     met = {name: sum(run["targets"][name]["met"] for run in runs) for name in first["targets"]}
     lines.append("")
     lines += [f"* {name}: met in {count} of {len(runs)} runs" for name, count in met.items()]
@@ -271,6 +306,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="instead: one table over these evaluated runs (mean ± std over training seeds)",
     )
     parser.add_argument("--out", help="with --summarize: also write the table to this file")
+    parser.add_argument("--plot", help="with --summarize: a PNG of every run's learning curve")
     parser.add_argument("--episodes", type=int, default=100, help="episodes (default 100)")
     parser.add_argument("--seed", type=int, default=1000, help="first episode seed (1000)")
     parser.add_argument("--video", choices=("gif", "mp4", "none"), default="gif")
@@ -281,7 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> dict[str, Any] | str:
     args = build_parser().parse_args(argv)
     if args.summarize:
-        table = summarize_runs(args.summarize)
+        table = summarize_runs(args.summarize, args.plot)
         if args.out:
             Path(args.out).write_text(table)
         print(table, end="", flush=True)

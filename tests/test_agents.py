@@ -165,8 +165,11 @@ def test_evaluation_is_deterministic(evaluated: tuple[Path, Any]) -> None:
 def test_summary_over_runs(evaluated: tuple[Path, Any], tmp_path: Path) -> None:
     run_dir, results = evaluated
     out = tmp_path / "summary.md"
-    table = evaluate.main(["--summarize", str(run_dir), str(run_dir), "--out", str(out)])
+    plot = tmp_path / "curves.png"
+    argv = ["--summarize", str(run_dir), str(run_dir), "--out", str(out), "--plot", str(plot)]
+    table = evaluate.main(argv)
     assert out.read_text() == table
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "2 training seeds (0, 0)" in table
     trained = next(line for line in table.splitlines() if line.startswith("| trained PPO"))
     mean = results["policies"]["trained"]["reward"]["mean"]

@@ -91,6 +91,8 @@ def test_training_notebook_runs_on_a_tiny_budget(
     pytest.importorskip("stable_baselines3")
     for key, value in TINY_BUDGET.items():
         monkeypatch.setenv(key, value)  # the kernel inherits the environment
+    # The copy runs outside notebooks/: tell it where agents/ is.
+    monkeypatch.setenv("IMPULSE2D_REPO", str(NOTEBOOKS.parent))
     notebook = _execute(TRAIN, tmp_path)
     outputs = [o for cell in notebook.cells for o in cell.get("outputs", [])]
     text = _text(outputs)
@@ -98,6 +100,8 @@ def test_training_notebook_runs_on_a_tiny_budget(
     for player in ("trained PPO", "random", "ghost ball (scripted)"):
         assert re.search(rf"^\| {re.escape(player)} \| -?\d", text, re.MULTILINE), text
     assert "4 episodes each" in text
+    # It trains with ppo.yml's tuned entry (the aids included), not a copy of old settings.
+    assert "action_transform: direction_vector" in text and "n_steps: 1" in text, text
     mimes = {mime for o in outputs for mime in o.get("data", {})}
     assert {"image/png", "image/gif"} <= mimes  # the learning curve, the agent playing
     assert list(tmp_path.iterdir()) == [tmp_path / TRAIN], "the notebook wrote files"
