@@ -48,16 +48,8 @@ def learning_curve(
         steps, rewards = steps[keep], rewards[keep]
     if steps.size == 0:
         return False
-    import matplotlib
-
-    matplotlib.use("Agg")  # files only, no display
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4), dpi=110)
+    plt, fig, ax = _reward_axes(title, baselines)
     ax.plot(steps, rewards, color="tab:blue", label="training episodes (recent mean)")
-    for name, value in baselines.items():
-        colour = "tab:red" if name.startswith("random") else "tab:green"
-        ax.axhline(value, ls="--", color=colour, label=name)
     if trained is not None:
         ax.errorbar(
             [steps[-1]],
@@ -68,15 +60,34 @@ def learning_curve(
             capsize=4,
             label="trained agent, evaluated (mean ± s.e.)",
         )
+    ax.legend(fontsize=8, loc="best")
+    _save(plt, fig, out)
+    return True
+
+
+def _reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any]:
+    """pyplot (headless), a figure and its axes of reward against env steps, with the
+    baselines' evaluation means as dashed lines (random red, scripted green)."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only, no display
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=110)
+    for name, value in baselines.items():
+        colour = "tab:red" if name.startswith("random") else "tab:green"
+        ax.axhline(value, ls="--", color=colour, label=name)
     ax.set_xlabel("env steps (shots)")
     ax.set_ylabel("reward / episode")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    return plt, fig, ax
+
+
+def _save(plt: Any, fig: Any, out: Path) -> None:
     fig.tight_layout()
     fig.savefig(out)
     plt.close(fig)
-    return True
 
 
 def seed_curves(
@@ -98,27 +109,13 @@ def seed_curves(
             curves.append((steps[keep], rewards[keep], label, evaluated))
     if not curves:
         return False
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4), dpi=110)
+    plt, fig, ax = _reward_axes(title, baselines)
     for index, (steps, rewards, label, evaluated) in enumerate(curves):
         colour = plt.get_cmap("Blues")(0.45 + 0.5 * index / max(1, len(curves) - 1))
         ax.plot(steps, rewards, color=colour, lw=1.2, label=f"{label}: training episodes")
         ax.plot([steps[-1]], [evaluated], "o", color=colour, label=f"{label}: evaluated")
-    for name, value in baselines.items():
-        colour = "tab:red" if name.startswith("random") else "tab:green"
-        ax.axhline(value, ls="--", color=colour, label=name)
-    ax.set_xlabel("env steps (shots)")
-    ax.set_ylabel("reward / episode")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="lower right", ncol=2)  # the curves rise to the top right
-    fig.tight_layout()
-    fig.savefig(out)
-    plt.close(fig)
+    _save(plt, fig, out)
     return True
 
 

@@ -41,8 +41,6 @@ import time
 
 import numpy as np
 
-import impulse2d as p2
-
 # _pool_world and _pyramid_world are re-exported: bench_render.py and solver_choice.py import
 # these world builders from here.
 try:  # imported as part of the repo (``bench.bench_engine``) ...
@@ -59,6 +57,7 @@ try:  # imported as part of the repo (``bench.bench_engine``) ...
     )
     from bench.engine_runs import _pool_world as _pool_world
     from bench.engine_runs import _pyramid_world as _pyramid_world
+    from bench.report import print_table, source_version
     from bench.scenes import pool_break, pyramid, rain, validate
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import engine_rows
@@ -74,6 +73,7 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
     )
     from engine_runs import _pool_world as _pool_world
     from engine_runs import _pyramid_world as _pyramid_world
+    from report import print_table, source_version
     from scenes import pool_break, pyramid, rain, validate
 
 # -- benchmark settings (the sections' own are in engine_rows.py) ----------------------------
@@ -143,7 +143,7 @@ def _print_setup(plan: Plan) -> None:
         f"python {platform.python_version()}, numpy {np.__version__}, pymunk {pymunk.version} "
         f"(Chipmunk {pymunk.chipmunk_version[:5]}), {os.cpu_count()} CPUs"
     )
-    print(_source_version())
+    print(source_version())
     print(scene.describe().replace(f"{scene.steps} steps", f"{pool_steps} steps"))
     print(
         f"  impulse2d: substeps={POOL_SUBSTEPS}, restitution_mixing='min', "
@@ -190,33 +190,7 @@ def _print_setup(plan: Plan) -> None:
 def _print_table(rows: list[tuple[str, ...]]) -> None:
     header = ("scene", "worlds", "impulse2d", "pymunk", "ratio", "notes")
     align = ("<", ">", ">", ">", ">", "<")
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
-
-    def line(cells: tuple[str, ...]) -> str:
-        return "  ".join(f"{c:{a}{w}}" for c, a, w in zip(cells, align, widths, strict=True))
-
-    print(line(header).rstrip())
-    print("  ".join("-" * w for w in widths))
-    for row in rows:
-        print(line(row).rstrip())
-
-
-def _source_version() -> str:
-    """Where impulse2d is imported from and its git commit (``+dirty`` with local changes)."""
-    import subprocess
-
-    root = os.path.dirname(os.path.abspath(p2.__file__))
-    try:
-        rev = subprocess.run(
-            ["git", "-C", root, "describe", "--always", "--dirty=+dirty"],
-            capture_output=True,
-            text=True,
-            timeout=5,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        rev = "no git"
-    return f"impulse2d from {root} ({rev})"
+    print_table(header, align, rows)
 
 
 def _print_results(plan: Plan, rows: list[Row], imp: Runs, pm1: dict) -> None:

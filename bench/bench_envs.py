@@ -43,11 +43,9 @@ import argparse
 import cProfile
 import importlib
 import io
-import math
 import os
 import platform
 import pstats
-import subprocess
 import sys
 import time
 import traceback
@@ -58,12 +56,14 @@ import gymnasium as gym
 import numpy as np
 import pymunk
 
-import impulse2d  # registers Pool2D-v0 and Slingshot2D-v0
-
 try:  # imported as part of the repo (``bench.bench_envs``) ...
     from bench import pymunk_pool_env as peer
+    from bench import report
+    from bench.report import fmt, ratio
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import pymunk_pool_env as peer
+    import report
+    from report import fmt, ratio
 
 POOL, SLING = "Pool2D-v0", "Slingshot2D-v0"
 # Defaults sized for ~4 minutes on this 2-core machine: a 1,024-world Pool2D shot takes
@@ -286,21 +286,6 @@ def measure_pymunk(model: str, processes: int, shots: int, tables: int, seed: in
 
 
 # -- table -------------------------------------------------------------------------------------
-def _fmt(value: float | None, digits: int = 3) -> str:
-    """Thousands separators for big numbers, ``digits`` significant digits otherwise."""
-    if value is None:
-        return "-"
-    if not math.isfinite(value):
-        return str(value)
-    if abs(value) >= 1000:
-        return f"{value:,.0f}"
-    return f"{value:.{digits}g}"
-
-
-def _ratio(a: float | None, b: float | None) -> str:
-    return "-" if a is None or not b else f"{a / b:.3g}"
-
-
 def _print_table(rows: list[tuple[str, ...]]) -> None:
     header = (
         "case",
@@ -316,29 +301,7 @@ def _print_table(rows: list[tuple[str, ...]]) -> None:
         "notes",
     )
     align = ("<", ">", ">", ">", ">", ">", ">", ">", ">", ">", "<")
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
-
-    def line(cells: tuple[str, ...]) -> str:
-        return "  ".join(f"{c:{a}{w}}" for c, a, w in zip(cells, align, widths, strict=True))
-
-    print(line(header).rstrip())
-    print("  ".join("-" * w for w in widths))
-    for row in rows:
-        print(line(row).rstrip())
-
-
-def _git_revision() -> str:
-    root = os.path.dirname(os.path.abspath(impulse2d.__file__))
-    try:
-        return subprocess.run(
-            ["git", "-C", root, "describe", "--always", "--dirty=+dirty"],
-            capture_output=True,
-            text=True,
-            timeout=5,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return "no git"
+    report.print_table(header, align, rows)
 
 
 def _load() -> str:
@@ -389,7 +352,7 @@ def main(argv: list[str] | None = None) -> None:
         f"{gym.__version__}, pymunk {pymunk.version} (Chipmunk {pymunk.chipmunk_version[:5]}), "
         f"{os.cpu_count()} CPUs, load average {_load()} at start"
     )
-    print(f"impulse2d from {os.path.dirname(impulse2d.__file__)} ({_git_revision()})")
+    print(report.source_version())
     print(
         f"{POOL}: 16 balls, dt 1/120 s, 2 substeps, shot until all asleep (0.1 s below "
         "0.01 m/s) or 20 s; episodes of 30 shots; random actions, seed "
@@ -428,11 +391,11 @@ def main(argv: list[str] | None = None) -> None:
                 str(n),
                 str(res["shots"]),
                 f"{res['seconds']:.1f}",
-                _fmt(rate),
-                _fmt(res["mean_steps"]),
+                fmt(rate),
+                fmt(res["mean_steps"]),
                 *[p or "-" for p in pct],
-                _ratio(rate, ref1) if ratios else "—",
-                _ratio(rate, ref2) if ratios else "—",
+                ratio(rate, ref1) if ratios else "—",
+                ratio(rate, ref2) if ratios else "—",
                 notes,
             )
         )
@@ -479,7 +442,7 @@ def main(argv: list[str] | None = None) -> None:
                 note = "gym.make with its wrappers"
             else:
                 res = measure_vector(SLING, n, sling_steps, seed)
-                note = f"{sling_steps} vector step(s), slowest world {_fmt(res['slowest'])} steps"
+                note = f"{sling_steps} vector step(s), slowest world {fmt(res['slowest'])} steps"
         except NotInstalled as error:
             add(case, n, None, "n/a (not installed)")
             print(f"    {SLING} not available: {error}", file=sys.stderr)
@@ -503,9 +466,9 @@ def main(argv: list[str] | None = None) -> None:
     rate = imp[big]["shots_per_s"]
     verdict = "ok" if rate >= ref2 else "MISS"
     print(
-        f"target: {POOL} x {big} >= pymunk in 2 processes: {_fmt(rate)} vs {_fmt(ref2)} "
+        f"target: {POOL} x {big} >= pymunk in 2 processes: {fmt(rate)} vs {fmt(ref2)} "
         f"shots/s (joints model), x{rate / ref2:.3g}: {verdict}; against the numpy model "
-        f"{_fmt(num2)} shots/s, x{rate / num2:.3g}: {'ok' if rate >= num2 else 'MISS'}"
+        f"{fmt(num2)} shots/s, x{rate / num2:.3g}: {'ok' if rate >= num2 else 'MISS'}"
         + ("" if big == 1024 else " (the target is set for 1,024 worlds)")
     )
     print(f"load average {_load()} at end; total wall time {time.perf_counter() - t_start:.0f} s")
