@@ -252,12 +252,10 @@ def pool_check_impulse2d(
         max_overlap = max(max_overlap, float((2 * r - dist)[upper].max()))
         max_penetration = max(max_penetration, float((np.abs(pos) + r - half).max()))
         if not touched:
-            c = world.last_contacts
-            if c is not None and c.size:
-                # Single world: flat body index == slot.
-                on_cushion = np.isin(c.body_a, cushion_slots) | np.isin(c.body_b, cushion_slots)
-                pushed = (c.max_normal_impulse > 0.0) | (c.normal_impulse > 0.0)
-                touched = bool(np.any(on_cushion & pushed))
+            c = world.contacts()
+            if c.size:
+                on_cushion = np.isin(c.slot_a, cushion_slots) | np.isin(c.slot_b, cushion_slots)
+                touched = bool(np.any(on_cushion & (c.impulse > 0.0)))
             if not touched:
                 momentum = scene.ball_mass * _velocities(world, balls).sum(axis=0)
                 expected = p0 * math.exp(-drag * k * dt)

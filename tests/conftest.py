@@ -37,8 +37,7 @@ def trace(
 
 def contact_count(world: p2.World) -> int:
     """Number of contact points of the last step (0 if there were none)."""
-    contacts = world.last_contacts
-    return 0 if contacts is None else int(contacts.size)
+    return world.contacts().size
 
 
 def upward_crossings(t: np.ndarray, x: np.ndarray) -> np.ndarray:

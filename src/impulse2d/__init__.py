@@ -1,4 +1,4 @@
-"""impulse2d: a 2D rigid-body physics engine on numpy, batched at its core.
+"""impulse2d: a 2D rigid-body physics engine in Python, compiled by numba, batched at its core.
 
     import impulse2d as p2
     world = p2.World(gravity=(0.0, -9.81))
@@ -12,19 +12,30 @@ A ``World(batch_size=1024)`` (or ``world.replicate(1024)``) steps 1,024 copies o
 in one set of arrays. SI units throughout.
 """
 
-from ._snapshot import Snapshot
-from .energy import Energy
+from .readouts import ContactPoints, Energy
+from .sensors import Sensor
 from .shapes import Body, Box, Circle, Plane
 from .springs import Spring
-from .world import World
+from .world import Snapshot, World
 
-__all__ = ["Body", "Box", "Circle", "Energy", "Plane", "Snapshot", "Spring", "World"]
-__version__ = "0.1.0"
+__all__ = [
+    "Body",
+    "Box",
+    "Circle",
+    "ContactPoints",
+    "Energy",
+    "Plane",
+    "Sensor",
+    "Snapshot",
+    "Spring",
+    "World",
+]
+__version__ = "0.2.0"
 
 
 def _register_environments() -> None:
     """Make ``gym.make("Pool2D-v0")`` work after ``import impulse2d``, if gymnasium is
-    installed (the engine itself needs only numpy)."""
+    installed (the engine itself needs only numpy and numba)."""
     try:
         import gymnasium  # noqa: F401
     except ImportError:

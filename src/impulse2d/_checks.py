@@ -13,12 +13,26 @@ from typing import Any
 import numpy as np
 
 
+def _real(name: str, value: Any) -> np.ndarray:
+    """``value`` as a float64 array, refusing what is not a real number: strings, None,
+    complex numbers (numpy would silently drop the imaginary part), ragged lists."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numeric, got {value!r}") from None
+    if raw.dtype.kind == "c":
+        raise ValueError(f"{name} must be real, got complex {value!r}")
+    if raw.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must be numeric, got {value!r}")
+    return raw.astype(np.float64)
+
+
 def finite_scalar(name: str, value: Any) -> float:
     """Return ``value`` as a float, or raise if it is not a finite real number."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    array = _real(name, value)
+    if array.shape != ():
+        raise ValueError(f"{name} must be a real number, got {value!r}")
+    number = float(array)
     if not math.isfinite(number):
         raise ValueError(f"{name} must be finite, got {number}")
     return number
@@ -26,6 +40,8 @@ def finite_scalar(name: str, value: Any) -> float:
 
 def positive(name: str, value: Any) -> float:
     """A finite number > 0."""
+    if type(value) is float and 0.0 < value < math.inf:  # the common case, quickly
+        return value
     number = finite_scalar(name, value)
     if number <= 0.0:
         raise ValueError(f"{name} must be > 0, got {number}")
@@ -40,30 +56,34 @@ def non_negative(name: str, value: Any) -> float:
     return number
 
 
-def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
-    """A float64 array with every entry finite, optionally of an exact shape."""
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numeric, got {value!r}") from None
+def real_array(
+    name: str, value: Any, shape: tuple[int, ...] | None = None, finite: bool = True
+) -> np.ndarray:
+    """A new float64 array with every entry finite (or, with ``finite=False``, +-inf
+    allowed but never NaN), optionally of an exact shape."""
+    array = _real(name, value)
     if shape is not None and array.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} must be finite, got {value!r}")
+    bad = np.isnan(array) if not finite else ~np.isfinite(array)
+    if np.any(bad):
+        kind = "a number" if not finite else "finite"
+        raise ValueError(f"{name} must be {kind}, got {value!r}")
     return array
 
 
 def vector2(name: str, value: Any) -> np.ndarray:
     """A finite 2-vector, returned as a new float64 array of shape (2,)."""
-    return finite_array(name, value, (2,))
+    return real_array(name, value, (2,))
 
 
-def batched(name: str, value: Any, batch_size: int, tail: tuple[int, ...]) -> np.ndarray:
+def batched(
+    name: str, value: Any, batch_size: int, tail: tuple[int, ...], finite: bool = True
+) -> np.ndarray:
     """A finite value of shape ``tail`` (same in every world) or ``(batch_size, *tail)``.
 
     Returns an array of shape ``(batch_size, *tail)``.
     """
-    array = finite_array(name, value)
+    array = real_array(name, value, finite=finite)
     if array.shape == tail:
         return np.broadcast_to(array, (batch_size, *tail)).copy()
     if array.shape == (batch_size, *tail):

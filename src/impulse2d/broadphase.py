@@ -1,316 +1,138 @@
-"""Broadphase: the candidate pairs, kept from step to step and updated only where bodies move.
+"""Broadphase: the pairs of one world worth a narrowphase test, by sort and sweep.
 
-Each body gets a *tight* bounding box: its axis-aligned bounding box, grown on every
-side by how far it can travel this step (``(|vx| + |vy| + |w| R) dt``) and by half the
-speculative distance, so two tight boxes overlap whenever the narrowphase could make a
-contact. The broadphase stores a *fat* box around each tight one (a margin larger). The
-candidate pairs are the pairs of overlapping fat boxes; as long as every tight box
-stays inside its fat box the pair list stays valid, so a step in which nothing has
-moved far costs a few elementwise operations and nothing per pair. A body that leaves
-its fat box is re-fattened and only its pairs are recomputed.
+Each body gets a box: its axis-aligned bounding box grown on every side by how far it can
+travel this step (``(|vx| + |vy| + R |w|) dt``) and by half its speculative distance, so
+two boxes overlap whenever the narrowphase could make a contact. The boxes are sorted by
+their left edge and swept: a body is tested only against those whose left edge lies
+before its right edge, so the cost is ``O(n + pairs)`` rather than ``O(n^2)``. The sorted
+order is kept from step to step (``state.SAP_ORDER``) and re-sorted by insertion, which
+costs ``O(n)`` when little has changed: bodies move a little per step.
 
-Finding the new pairs of the moved bodies picks by size: a dense test against every
-slot of the world while that is cheap (``moved x slots`` up to a few hundred thousand),
-otherwise a sweep over the fat squares sorted by their left edge (sort and sweep),
-which costs ``O(n log n + candidates)`` instead of ``O(n^2)``. Bodies much larger than
-the rest (a long ground box) would make every sweep window huge, so they are
-tested densely on their own.
+A pair is a candidate if the boxes overlap, at least one body moves this step and at least
+one is dynamic. Planes are infinite and not in the sweep: every moving dynamic body is
+paired with every plane of its world (there are few).
 
-Pairs are identified by an int64 *key*, sorted: ``((kind * B + world) * N + a) * N + b``
-with the pair kind (see ``narrowphase``) as the major part. Sorted keys give every
-later stage a deterministic order, independent of how many worlds share the batch.
-
-Planes are infinite, so they are not in the squares: every body is paired with every
-plane of its world (there are few planes) by ``plane_pairs``.
+The pairs come out in a canonical order, by the slot of A and then of B, where a pair is
+ordered so that ``kind(A) <= kind(B)`` (a slot before a higher one of the same kind). The
+sweep's own order depends on history; the canonical one does not, so the solver meets
+contacts in the same order however the world got to where it is (restored, alone or in a
+batch). The counting sort that produces it costs ``O(n + pairs)``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .narrowphase import BOX_BOX, CIRCLE_BOX, CIRCLE_CIRCLE, FEATURES, PAIR_KIND
-
-# The pair kinds the broadphase holds (planes are paired separately), in key order.
-_BROAD_KINDS = np.array(sorted([CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX]), dtype=np.int64)
-_DENSE_LIMIT = 4_000_000  # moved bodies x slots tested densely before switching to the sweep
+from ._jit import inline, kernel
+from .state import DYNAMIC, ENABLED, PLANE, SAP_ORDER
+from .workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
 
 
-def pair_keys(
-    kind_pair: np.ndarray, world: np.ndarray, a: np.ndarray, b: np.ndarray, batch: int, slots: int
-) -> np.ndarray:
-    """Keys of pairs from their kind, world and the slots of A and B."""
-    return ((kind_pair * batch + world) * slots + a) * slots + b
+@kernel
+def sort_by_left_edge(order, terms) -> None:
+    """Insertion sort of a permutation of the slots by their boxes' left edges."""
+    for p in range(1, order.size):
+        slot = order[p]
+        key = terms[slot, LEFT]
+        q = p - 1
+        while q >= 0 and terms[order[q], LEFT] > key:
+            order[q + 1] = order[q]
+            q -= 1
+        order[q + 1] = slot
 
 
-def split_keys(keys: np.ndarray, batch: int, slots: int) -> tuple[np.ndarray, ...]:
-    """Pair kind, world, slot of A and slot of B of pair keys."""
-    slot_b = keys % slots
-    rest = keys // slots
-    slot_a = rest % slots
-    rest = rest // slots
-    return rest // batch, rest % batch, slot_a, slot_b
+@inline
+def add_pair(pairs, count, a, b, shapes) -> int:
+    """Append the pair ordered so that kind(A) <= kind(B); returns the new count (which
+    may pass the capacity: then only the count is kept, and the step asks for room)."""
+    ka, kb = shapes[a, 0], shapes[b, 0]
+    if kb < ka or (kb == ka and b < a):
+        a, b = b, a
+    if count < pairs.shape[0]:
+        pairs[count, 0] = a
+        pairs[count, 1] = b
+    return count + 1
 
 
-def decode_keys(keys: np.ndarray, batch: int, slots: int) -> tuple[np.ndarray, np.ndarray]:
-    """Flat body indices (A, B) of pair keys."""
-    _, world, slot_a, slot_b = split_keys(keys, batch, slots)
-    return world * slots + slot_a, world * slots + slot_b
+@kernel
+def sweep(body_i, shapes, w, terms, pairs) -> int:
+    """Sort and sweep the world's circles and boxes; returns the number of pairs.
+
+    Two boxes overlap when ``left_a < right_b``, ``left_b < right_a`` and the same on y.
+    Sorted by left edge, ``left_a <= left_b``, so the first holds and the sweep stops at the
+    first ``left_b >= right_a``. The test is symmetric in a and b, so the pairs found do not
+    depend on the order the sweep remembered."""
+    order = body_i[w, :, SAP_ORDER]
+    sort_by_left_edge(order, terms)
+    count = 0
+    n = order.size
+    for p in range(n):
+        a = order[p]
+        if terms[a, LEFT] == np.inf:
+            break  # the rest are not in the broadphase
+        right, bottom, top = terms[a, RIGHT], terms[a, BOTTOM], terms[a, TOP]
+        moving_a, dynamic_a = terms[a, MOVING] == 1.0, shapes[a, 1] == DYNAMIC
+        for q in range(p + 1, n):
+            b = order[q]
+            if terms[b, LEFT] >= right:
+                break
+            if terms[b, BOTTOM] >= top or bottom >= terms[b, TOP]:
+                continue
+            if not (moving_a or terms[b, MOVING] == 1.0):
+                continue
+            if dynamic_a or shapes[b, 1] == DYNAMIC:
+                count = add_pair(pairs, count, a, b, shapes)
+    return count
 
 
-def rekey(
-    point_keys: np.ndarray,
-    batch: int,
-    slots: int,
-    new_batch: int,
-    new_slots: int,
-    worlds: np.ndarray | None = None,
-) -> np.ndarray:
-    """Point keys re-expressed for another batch size or capacity; ``worlds`` maps each old
-    world index to a new one (default: the same)."""
-    feature = point_keys % FEATURES
-    kind, world, slot_a, slot_b = split_keys(point_keys // FEATURES, batch, slots)
-    if worlds is not None:
-        world = worlds[world]
-    return pair_keys(kind, world, slot_a, slot_b, new_batch, new_slots) * FEATURES + feature
+@kernel
+def plane_pairs(body_i, shapes, w, terms, pairs, count) -> int:
+    """Every moving dynamic body with every plane of the world."""
+    for p in range(shapes.shape[0]):
+        if shapes[p, 0] != PLANE or body_i[w, p, ENABLED] == 0:
+            continue
+        for i in range(shapes.shape[0]):
+            if terms[i, MOVABLE] == 1.0 and shapes[i, 0] != PLANE:
+                count = add_pair(pairs, count, i, p, shapes)
+    return count
 
 
-class Broadphase:
-    """Persistent candidate pairs over fattened bounding squares (see the module docstring).
-
-    ``update`` returns sorted pair keys and the flat body indices of A and B.
-    """
-
-    def __init__(self, batch: int, slots: int, dense_limit: int = _DENSE_LIMIT) -> None:
-        self.batch, self.slots = batch, slots
-        self.dense_limit = dense_limit
-        total = batch * slots
-        # Fat boxes: centre and half extents. A body with no box has half extents -inf, so
-        # it overlaps nothing.
-        self.fat_x = np.zeros(total)
-        self.fat_y = np.zeros(total)
-        self.fat_hx = np.full(total, -np.inf)
-        self.fat_hy = np.full(total, -np.inf)
-        self.stale = np.ones(total, dtype=bool)  # must be (re)inserted at the next update
-        self.any_stale = True
-        self.keys = np.zeros(0, np.int64)
-        self.body_a = np.zeros(0, np.int64)
-        self.body_b = np.zeros(0, np.int64)
-        self.updates = 0  # how many bodies were re-queried, for profiling
-
-    def mark(self, flat: np.ndarray | slice) -> None:
-        """Bodies that were teleported, resized, enabled or disabled: re-query them."""
-        self.stale[flat] = True
-        self.any_stale = True
-
-    def update(
-        self,
-        x: np.ndarray,
-        y: np.ndarray,
-        extent_x: np.ndarray,
-        extent_y: np.ndarray,
-        grow: np.ndarray,
-        margin: np.ndarray,
-        candidates: np.ndarray,
-        present: np.ndarray,
-        allowed: np.ndarray,
-        kind: np.ndarray,
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Refresh the pairs and return ``(keys, body_a, body_b)``.
-
-        ``x, y`` are centres and ``extent_x, extent_y`` the half extents of the shapes of
-        all ``T`` bodies. A tight box is the shape's box grown by ``grow`` on every side;
-        a re-fattened box gets ``margin`` more. ``candidates`` are the bodies that can
-        move this step; ``present`` marks enabled non-plane bodies. ``allowed[a, b]``
-        says slots a and b may collide, and ``kind`` gives each slot's shape kind.
-        """
-        c = candidates
-        if 2 * c.size > x.size:  # most bodies move: whole arrays beat gathering them
-            escaped = (np.abs(x - self.fat_x) + extent_x + grow > self.fat_hx) | (
-                np.abs(y - self.fat_y) + extent_y + grow > self.fat_hy
-            )
-            moved = c[escaped[c]]
-        else:
-            escaped = (np.abs(x[c] - self.fat_x[c]) + extent_x[c] + grow[c] > self.fat_hx[c]) | (
-                np.abs(y[c] - self.fat_y[c]) + extent_y[c] + grow[c] > self.fat_hy[c]
-            )
-            moved = c[escaped]
-        if self.any_stale:
-            moved = np.union1d(moved, np.flatnonzero(self.stale))
-            self.stale[:] = False
-            self.any_stale = False
-        if moved.size == 0:
-            return self.keys, self.body_a, self.body_b
-        self.updates += moved.size
-        # The pairs to drop (those of moved bodies) lie in the moved bodies' worlds: look
-        # only there, and copy the arrays once, without them.
-        moved_mask = np.zeros(x.size, dtype=bool)
-        moved_mask[moved] = True
-        rows = self.rows_of_worlds(np.unique(moved // self.slots))
-        drop = rows[moved_mask[self.body_a[rows]] | moved_mask[self.body_b[rows]]]
-        live = present[moved]
-        extra = grow[moved] + margin[moved]
-        self.fat_x[moved] = x[moved]
-        self.fat_y[moved] = y[moved]
-        self.fat_hx[moved] = np.where(live, extent_x[moved] + extra, -np.inf)
-        self.fat_hy[moved] = np.where(live, extent_y[moved] + extra, -np.inf)
-
-        new_keys, new_a, new_b = self._query(moved[live], moved_mask, present, allowed, kind)
-        kept = (self.keys, self.body_a, self.body_b)
-        if drop.size:
-            kept = tuple(np.delete(array, drop) for array in kept)
-        if new_keys.size == 0:
-            self.keys, self.body_a, self.body_b = kept
-            return kept
-        order = np.argsort(new_keys)
-        new = (new_keys[order], new_a[order], new_b[order])
-        # Merge two sorted lists: where each new key lands among the kept ones.
-        total = kept[0].size + new[0].size
-        landing = np.searchsorted(kept[0], new[0]) + np.arange(new[0].size)
-        is_new = np.zeros(total, dtype=bool)
-        is_new[landing] = True
-        merged = []
-        for old_part, new_part in zip(kept, new, strict=True):
-            out = np.empty(total, dtype=old_part.dtype)
-            out[landing] = new_part
-            out[~is_new] = old_part
-            merged.append(out)
-        self.keys, self.body_a, self.body_b = merged
-        return self.keys, self.body_a, self.body_b
-
-    def rows_of_worlds(self, worlds: np.ndarray) -> np.ndarray:
-        """Rows (indices into ``keys``, ascending) of the pairs of ``worlds`` (sorted,
-        unique). Keys sort by (kind, world) first, so one world's pairs of one kind are a
-        contiguous run, found by two binary searches: the cost follows the worlds asked
-        for, not the whole batch."""
-        span = self.slots * self.slots
-        start = (_BROAD_KINDS[:, None] * self.batch + worlds[None, :]).ravel() * span
-        low = np.searchsorted(self.keys, start)
-        count = np.searchsorted(self.keys, start + span) - low
-        total = int(count.sum())
-        if total == 0:
-            return np.zeros(0, np.int64)
-        # Concatenated ranges [low, low + count): a running index shifted per range.
-        shift = np.repeat(low - (np.cumsum(count) - count), count)
-        return np.arange(total) + shift
-
-    def _query(
-        self,
-        moved: np.ndarray,
-        moved_mask: np.ndarray,
-        present: np.ndarray,
-        allowed: np.ndarray,
-        kind: np.ndarray,
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Keys and flat bodies (A, B) of all valid overlapping pairs with a moved body."""
-        if moved.size == 0:
-            empty = np.zeros(0, np.int64)
-            return empty, empty, empty
-        if moved.size * self.slots <= self.dense_limit:
-            first, second = self._dense(moved)
-        else:
-            first, second = self._sweep(moved, present)
-        n = self.slots
-        slot_1, slot_2 = first % n, second % n
-        # Each pair once: when both moved, only the query of the lower slot reports it.
-        valid = (
-            allowed[slot_1, slot_2] & present[second] & (~moved_mask[second] | (slot_1 < slot_2))
-        )
-        first, second = first[valid], second[valid]
-        slot_1, slot_2 = slot_1[valid], slot_2[valid]
-        # Order A, B by (kind, slot) so that kind(A) <= kind(B).
-        k1, k2 = kind[slot_1], kind[slot_2]
-        swap = (k1 > k2) | ((k1 == k2) & (slot_1 > slot_2))
-        slot_a, slot_b = np.where(swap, slot_2, slot_1), np.where(swap, slot_1, slot_2)
-        kinds = PAIR_KIND[kind[slot_a], kind[slot_b]]
-        world = first // n
-        keys = pair_keys(kinds, world, slot_a, slot_b, self.batch, n)
-        return keys, world * n + slot_a, world * n + slot_b
-
-    def _overlap(self, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-        return (
-            np.abs(self.fat_x[first] - self.fat_x[second])
-            < self.fat_hx[first] + self.fat_hx[second]
-        ) & (
-            np.abs(self.fat_y[first] - self.fat_y[second])
-            < self.fat_hy[first] + self.fat_hy[second]
-        )
-
-    def _dense(self, moved: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Every moved body against every slot of its world (rows of the (B, N) arrays)."""
-        n = self.slots
-        world = moved // n
-
-        def rows(array: np.ndarray) -> np.ndarray:
-            return np.take(array.reshape(-1, n), world, axis=0)
-
-        hit = np.abs(rows(self.fat_x) - self.fat_x[moved][:, None]) < (
-            rows(self.fat_hx) + self.fat_hx[moved][:, None]
-        )
-        hit &= np.abs(rows(self.fat_y) - self.fat_y[moved][:, None]) < (
-            rows(self.fat_hy) + self.fat_hy[moved][:, None]
-        )
-        first, cols = np.divmod(np.flatnonzero(hit), n)  # 2-D nonzero is several times slower
-        return moved[first], world[first] * n + cols
-
-    def _sweep(self, moved: np.ndarray, present: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Sort and sweep: candidates are bodies whose left edge lies in a window."""
-        n = self.slots
-        bodies = np.flatnonzero(present & np.isfinite(self.fat_hx))
-        half = self.fat_hx[bodies]
-        # Bodies far wider than typical are tested densely, so that the sweep window
-        # (which must span the widest body) stays narrow.
-        typical = np.median(half)
-        large = half > 8.0 * typical
-        # One sorted axis for all worlds: offset each world by more than any body reaches
-        # (large ones included), so a body's window never reaches into another world.
-        spread = 2.0 * (np.abs(self.fat_x[bodies]).max() + half.max()) + 1.0
-        first_parts, second_parts = [], []
-        if large.any():
-            big = bodies[large]
-            same_world = (moved // n)[:, None] == (big // n)[None, :]
-            f = np.broadcast_to(moved[:, None], same_world.shape)[same_world]
-            s = np.broadcast_to(big[None, :], same_world.shape)[same_world]
-            hit = self._overlap(f, s)
-            first_parts.append(f[hit])
-            second_parts.append(s[hit])
-            # ... and the large moved bodies must see the small ones too.
-            bodies, half = bodies[~large], half[~large]
-        widest = 2.0 * half.max() if half.size else 0.0
-        left = self.fat_x[bodies] - half
-        order = np.argsort((bodies // n) * spread + left, kind="stable")
-        sorted_bodies = bodies[order]
-        sorted_keys = ((bodies // n) * spread + left)[order]
-        m_world = (moved // n) * spread
-        m_left = self.fat_x[moved] - self.fat_hx[moved]
-        m_right = self.fat_x[moved] + self.fat_hx[moved]
-        slack = 1e-9 * spread
-        lo = np.searchsorted(sorted_keys, m_world + m_left - widest - slack, side="left")
-        hi = np.searchsorted(sorted_keys, m_world + m_right + slack, side="right")
-        counts = hi - lo
-        total = int(counts.sum())
-        owner = np.repeat(np.arange(moved.size), counts)
-        start = np.cumsum(counts) - counts
-        position = lo[owner] + (np.arange(total) - start[owner])
-        f = moved[owner]
-        s = sorted_bodies[position]
-        hit = self._overlap(f, s) & (f // n == s // n)
-        first_parts.append(f[hit])
-        second_parts.append(s[hit])
-        return np.concatenate(first_parts), np.concatenate(second_parts)
+@kernel
+def canonical_order(pairs, count, scratch, buckets) -> None:
+    """Sort the first ``count`` pairs by (A, B): counting sort by A, then insertion sort
+    of each A's (few) partners by B."""
+    n = buckets.size - 1
+    buckets[:] = 0
+    for k in range(count):
+        buckets[pairs[k, 0] + 1] += 1
+    for i in range(n):
+        buckets[i + 1] += buckets[i]
+    for k in range(count):
+        a = pairs[k, 0]
+        at = buckets[a]
+        scratch[at, 0], scratch[at, 1] = a, pairs[k, 1]
+        buckets[a] = at + 1
+    start = 0
+    for a in range(n):
+        end = buckets[a]  # after the placing pass: where A's run ends
+        for p in range(start + 1, end):
+            partner = scratch[p, 1]
+            q = p - 1
+            while q >= start and scratch[q, 1] > partner:
+                scratch[q + 1, 1] = scratch[q, 1]
+                q -= 1
+            scratch[q + 1, 1] = partner
+        start = end
+    for k in range(count):
+        pairs[k, 0], pairs[k, 1] = scratch[k, 0], scratch[k, 1]
 
 
-def plane_pairs(kind: np.ndarray, allowed: np.ndarray, batch: int) -> np.ndarray:
-    """Sorted keys of every (body, plane) pair in every world, for the current slots."""
-    slots = kind.size
-    planes = np.flatnonzero(kind == 2)
-    bodies = np.flatnonzero((kind == 0) | (kind == 1))
-    if planes.size == 0 or bodies.size == 0:
-        return np.zeros(0, np.int64)
-    a, b = np.meshgrid(bodies, planes, indexing="ij")
-    a, b = a.ravel(), b.ravel()
-    ok = allowed[a, b]
-    a, b = a[ok], b[ok]
-    kinds = PAIR_KIND[kind[a], kind[b]]
-    world = np.arange(batch)[:, None]
-    keys = pair_keys(kinds[None, :], world, a[None, :], b[None, :], batch, slots).ravel()
-    return np.sort(keys)
+@kernel
+def find_pairs(body, body_i, shapes, w, ctx, terms, pairs, scratch, buckets) -> int:
+    """The candidate pairs of world ``w`` in canonical order; returns their number (more
+    than ``pairs`` holds means the step needs more room)."""
+    count = sweep(body_i, shapes, w, terms, pairs)
+    count = plane_pairs(body_i, shapes, w, terms, pairs, count)
+    if count <= pairs.shape[0]:
+        canonical_order(pairs, count, scratch, buckets)
+    return count

@@ -1,431 +1,269 @@
-"""Contact constraints for one step: materials, effective masses, warm start and colours.
+"""Contact constraints of one step: materials, effective masses, warm start, the cache.
 
-Each narrowphase point becomes one non-penetration constraint (along the normal) and
-one friction constraint (along the tangent ``t = (n_y, -n_x)``). For a constraint with
-direction ``d`` and anchors ``rA``, ``rB`` the Jacobian acting on the six velocities
-``(vA, wA, vB, wB)`` is::
+Each narrowphase point becomes one non-penetration constraint along the normal ``n`` and
+one friction constraint along the tangent ``t = (n_y, -n_x)``. For a direction ``d`` and
+anchors ``rA``, ``rB`` the Jacobian acting on the velocities ``(vA, wA, vB, wB)`` is::
 
     J = [-d, -(rA x d), d, (rB x d)]        (2D cross: r x d = r_x d_y - r_y d_x)
 
-so the relative velocity along ``d`` is ``J . V`` and an impulse ``lambda`` changes
-``V`` by ``M^-1 J^T lambda``. The effective mass is ``1 / (J M^-1 J^T)``::
+so the relative velocity along ``d`` is ``J . V`` and an impulse ``lambda`` changes ``V``
+by ``M^-1 J^T lambda``. The effective mass is ``1 / (J M^-1 J^T)``::
 
     1 / (1/mA + (rA x d)^2 / IA + 1/mB + (rB x d)^2 / IB)
 
-(this is the tutorial's "effective mass" ``1 / (1/m + r^2 / I)`` for both bodies at once).
-``J`` and ``M^-1 J^T`` are stored as ``(6, P)`` arrays; ``index6`` holds, for each point,
-the flat positions of ``(vxA, vyA, wA, vxB, vyB, wB)`` in the ``(3, T)`` velocity array,
-so a gather is one ``take`` and a scatter one assignment.
+(the tutorial's "effective mass" ``1 / (1/m + r^2 / I)`` for both bodies at once). Bodies
+that cannot move this step (fixed, kinematic, asleep) enter with zero inverse mass.
 
-*Colours.* Gauss-Seidel (solve one constraint, update the bodies, solve the next)
-converges far better than Jacobi for stacks, but is sequential. Constraints are split
-into colours in which no dynamic body appears twice, so a whole colour can be solved
-at once with plain gathers and scatters and the sweep over colours is still
-Gauss-Seidel (Box2D v3 does the same for SIMD lanes). Colouring is greedy first-fit
-with a bit mask of used colours per body; conflicts inside a round are avoided by
-letting only the points of highest priority at each body go (Luby's rule), so a round
-is one vectorised pass. Priorities are a bijective hash of the point's key within its
-world, so each world is coloured exactly as it would be on its own.
+*Materials.* Restitution and friction are mixed per contact by the world's rules (Box2D:
+``max`` for restitution, ``sqrt(a b)`` for friction).
 
-*Warm start.* Accumulated impulses are stored by point key (pair key and feature id)
-and matched next step with a binary search, as in box2d-lite.
+*Warm start.* The impulses a point accumulated are stored by the point's key (body A,
+body B, feature id) and carried to the next step, as in box2d-lite. Points and cache are
+both sorted by key, so matching them is one merge walk. Pairs that sleep through a step
+are not solved; their cached points are kept (*dormant*) so a stack that wakes up starts
+from the impulses that held it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import math
 
-import numpy as np
+from . import settings as ctx_
+from ._jit import inline, kernel
+from .state import (
+    APPROACH,
+    BODY_A,
+    BODY_B,
+    CONTACT_COUNT,
+    CONTACT_F,
+    CONTACT_I,
+    CONTACT_NX,
+    CONTACT_NY,
+    ENABLED,
+    FEATURE,
+    FRICTION,
+    NORMAL_IMPULSE,
+    POINT_X,
+    POINT_Y,
+    RESTITUTION,
+    SEPARATION,
+    STEP_IMPULSE,
+    TANGENT_IMPULSE,
+    VX,
+    VY,
+    W,
+)
+from .workspace import (
+    ACCEL_W,
+    ACCEL_X,
+    ACCEL_Y,
+    APPROACH_SPEED,
+    BIAS_RATE,
+    IIA,
+    IIB,
+    IMA,
+    IMB,
+    IMPACT_V,
+    IMPULSE_SCALE,
+    MASS_SCALE,
+    MAX_J,
+    MIXED_FRICTION,
+    MIXED_RESTITUTION,
+    MOVABLE,
+    MOVING,
+    NORMAL_ACCEL,
+    NORMAL_J,
+    NORMAL_MASS,
+    NX,
+    NY,
+    RAX,
+    RAY,
+    RBX,
+    RBY,
+    RNA,
+    RNB,
+    RTA,
+    RTB,
+    SEP0,
+    SHARED,
+    STEP_INV_MASS,
+    STEP_INV_MOMENT,
+    STEP_J,
+    TANGENT_J,
+    TANGENT_MASS,
+    X0,
+    Y0,
+)
 
-from .narrowphase import FEATURES, Points
-
-_HASH_1 = np.uint64(0x9E3779B97F4A7C15)
-_HASH_2 = np.uint64(0xBF58476D1CE4E5B9)
-_ALL_BITS = np.uint64(0xFFFFFFFFFFFFFFFF)
-_PALETTE = 64  # colours per bit mask; more colours take further rounds of 64
-
-MIXING_RULES = ("max", "min", "mean", "product", "sqrt")
+_SLOT_RADIX = 1 << 26  # slots per world in a point key (far more than any world holds)
+_FEATURE_RADIX = 32
 
 
-def mix(rule: str, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Combine two materials' coefficients by a named rule (Box2D: max for restitution,
-    sqrt(a * b) for friction)."""
-    if rule == "max":
-        return np.maximum(a, b)
-    if rule == "min":
-        return np.minimum(a, b)
-    if rule == "mean":
+@kernel
+def point_key(a, b, feature) -> int:
+    """A point's key: ordered as (body A, body B, feature)."""
+    return (a * _SLOT_RADIX + b) * _FEATURE_RADIX + feature
+
+
+@kernel
+def mix(rule, a, b) -> float:
+    """Combine two materials' coefficients by the rule with index ``rule`` in
+    ``settings.MIXING_RULES``: max, min, mean, product, sqrt."""
+    if rule == 0:
+        return max(a, b)
+    if rule == 1:
+        return min(a, b)
+    if rule == 2:
         return 0.5 * (a + b)
-    if rule == "product":
+    if rule == 3:
         return a * b
-    return np.sqrt(a * b)
+    return math.sqrt(a * b)
 
 
-def soft_constraint(hertz: float, damping_ratio: float, h: float) -> tuple[float, float, float]:
-    """Bias rate, mass scale and impulse scale of a soft contact (Box2D v3's soft step).
-
-    A penetration ``C < 0`` is treated as a spring-damper of natural frequency
-    ``omega = 2 pi hertz`` and damping ratio ``zeta`` integrated implicitly over the
-    substep ``h``. Solving ``J v + (beta / h) C + gamma lambda = 0`` for the impulse gives
-    ``lambda = -m massScale (J v + biasRate C) - impulseScale lambda_acc`` with::
-
-        a1 = 2 zeta + h omega,  a2 = h omega a1,  a3 = 1 / (1 + a2)
-        biasRate = omega / a1,  massScale = a2 a3,  impulseScale = a3
-    """
-    if hertz == 0.0:
-        return 0.0, 1.0, 0.0
-    omega = 2.0 * np.pi * hertz
-    a1 = 2.0 * damping_ratio + h * omega
-    a2 = h * omega * a1
-    a3 = 1.0 / (1.0 + a2)
-    return omega / a1, a2 * a3, a3
-
-
-def priority(local_key: np.ndarray) -> np.ndarray:
-    """A bijective 64-bit hash (splitmix64's finaliser): unique priorities, no bias."""
-    x = local_key.astype(np.uint64)
-    x = (x ^ (x >> np.uint64(30))) * _HASH_1
-    x = (x ^ (x >> np.uint64(27))) * _HASH_2
-    return x ^ (x >> np.uint64(31))
-
-
-def colour(
-    body_a: np.ndarray,
-    body_b: np.ndarray,
-    free_a: np.ndarray,
-    free_b: np.ndarray,
-    local_key: np.ndarray,
-    total: int,
-    previous: np.ndarray,
-) -> np.ndarray:
-    """Colour constraints so that no dynamic body appears twice in a colour.
-
-    ``free_a``/``free_b`` mark ends on bodies that cannot move (fixed, kinematic,
-    asleep): they never conflict. ``previous`` is each point's colour at the last step
-    (-1 for a new point): contacts persist, so keeping those colours while they are
-    still valid makes colouring cost nothing in a steady scene; only new points go
-    through the rounds. Returns the colour of each constraint (0, 1, ...).
-    """
-    count = body_a.size
-    ends = np.concatenate([body_a[~free_a], body_b[~free_b]])
-    ends.sort()
-    if not (ends[1:] == ends[:-1]).any():  # no dynamic body twice: one colour (common)
-        return np.zeros(count, np.int64)
-    sentinel = total  # every immovable end points here; it constrains nothing
-    ends_a = np.where(free_a, sentinel, body_a)
-    ends_b = np.where(free_b, sentinel, body_b)
-    result = np.where(previous < _PALETTE, previous, -1)
-    used = _used_colours(result, ends_a, ends_b, total)
-    remaining = np.flatnonzero(result < 0)
-    by_point = np.zeros(count, np.uint64)
-    by_point[remaining] = priority(local_key[remaining])
-    best = np.full(total + 1, _ALL_BITS, np.uint64)
-    deferred: list[np.ndarray] = []
-    base = 0
-    while remaining.size or deferred:
-        if remaining.size == 0:  # this palette is full for some bodies: start another
-            remaining = np.concatenate(deferred)
-            deferred = []
-            used[:] = 0
-            base += _PALETTE
-        ra, rb, rp = ends_a[remaining], ends_b[remaining], by_point[remaining]
-        best[ra] = _ALL_BITS
-        best[rb] = _ALL_BITS
-        np.minimum.at(best, ra, rp)
-        np.minimum.at(best, rb, rp)
-        wins = ((ra == sentinel) | (best[ra] == rp)) & ((rb == sentinel) | (best[rb] == rp))
-        winners, wa, wb = remaining[wins], ra[wins], rb[wins]
-        free = ~(used[wa] | used[wb])
-        bit = free & (~free + np.uint64(1))  # lowest free colour
-        full = bit == 0
-        ok = ~full
-        result[winners[ok]] = base + np.log2(bit[ok].astype(np.float64)).astype(np.int64)
-        used[wa[ok]] |= bit[ok]
-        used[wb[ok]] |= bit[ok]
-        used[sentinel] = 0
-        if full.any():
-            deferred.append(winners[full])
-        remaining = remaining[~wins]
-    return result
-
-
-def _used_colours(
-    result: np.ndarray, ends_a: np.ndarray, ends_b: np.ndarray, total: int
-) -> np.ndarray:
-    """Bit mask of the colours each body already has, after dropping (setting to -1 in
-    ``result``) kept colours that now clash: a body that woke up, or that was asleep and
-    is now movable, can meet two points of the same colour."""
-    kept = np.flatnonzero(result >= 0)
-    used = np.zeros(total + 1, np.uint64)
-    if kept.size == 0:
-        return used
-    bits = np.left_shift(np.uint64(1), result[kept].astype(np.uint64))
-    ea, eb = ends_a[kept], ends_b[kept]
-    np.bitwise_or.at(used, ea, bits)
-    np.bitwise_or.at(used, eb, bits)
-    # Distinct powers of two add up to their OR; a repeated colour makes the sum differ.
-    summed = np.zeros(total + 1, np.uint64)
-    np.add.at(summed, ea, bits)
-    np.add.at(summed, eb, bits)
-    clash = summed != used
-    clash[total] = False
-    if clash.any():
-        result[kept[clash[ea] | clash[eb]]] = -1
-        return _used_colours(result, ends_a, ends_b, total)
-    used[total] = 0
-    return used
-
-
-@dataclass
-class Cache:
-    """What a point carries to the next step, by point key (sorted): its two bodies (flat
-    indices), its accumulated impulses (warm start) and its colour."""
-
-    keys: np.ndarray
-    body_a: np.ndarray
-    body_b: np.ndarray
-    normal_impulse: np.ndarray
-    tangent_impulse: np.ndarray
-    colour: np.ndarray
-
-    @staticmethod
-    def empty() -> Cache:
-        index = np.zeros(0, np.int64)
-        return Cache(index, index, index, np.zeros(0), np.zeros(0), index)
-
-    def arrays(self) -> list[np.ndarray]:
-        return [getattr(self, f.name) for f in fields(self)]
-
-    def take(self, rows: np.ndarray) -> Cache:
-        return Cache(*(array[rows] for array in self.arrays()))
-
-    def copy(self) -> Cache:
-        return Cache(*(array.copy() for array in self.arrays()))
-
-    def lookup(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Impulses and colour stored for ``keys`` (0, 0 and -1 where a key is new)."""
-        if self.keys.size == 0:
-            return np.zeros(keys.size), np.zeros(keys.size), np.full(keys.size, -1)
-        where = np.minimum(np.searchsorted(self.keys, keys), self.keys.size - 1)
-        found = self.keys[where] == keys
-        return (
-            np.where(found, self.normal_impulse[where], 0.0),
-            np.where(found, self.tangent_impulse[where], 0.0),
-            np.where(found, self.colour[where], -1),
-        )
-
-    @staticmethod
-    def merge(first: Cache, second: Cache) -> Cache:
-        """Union of two caches with disjoint keys, sorted."""
-        if second.keys.size == 0:
-            return first
-        if first.keys.size == 0:
-            return second
-        order = np.argsort(np.concatenate([first.keys, second.keys]), kind="stable")
-        return Cache(
-            *(
-                np.concatenate([a, b])[order]
-                for a, b in zip(first.arrays(), second.arrays(), strict=True)
+@kernel
+def carry_impulses(contact, contact_i, world_i, w, points, ids, n) -> None:
+    """Warm start: each point takes the impulses its key had at the last step (or 0)."""
+    cached = world_i[w, CONTACT_COUNT]
+    j = 0
+    for k in range(n):
+        key = point_key(ids[k, 0], ids[k, 1], ids[k, 2])
+        while (
+            j < cached
+            and point_key(
+                contact_i[w, j, BODY_A], contact_i[w, j, BODY_B], contact_i[w, j, FEATURE]
             )
-        )
-
-
-@dataclass
-class Contacts:
-    """The contact constraints of one step, sorted by colour. Arrays have one entry per
-    point (``(6, P)`` for Jacobians); ``bounds[c]:bounds[c + 1]`` is colour ``c``."""
-
-    key: np.ndarray
-    body_a: np.ndarray
-    body_b: np.ndarray
-    index6: np.ndarray
-    normal_x: np.ndarray
-    normal_y: np.ndarray
-    jac_n: np.ndarray
-    inv_n: np.ndarray  # M^-1 J^T for the normal
-    jac_t: np.ndarray
-    inv_t: np.ndarray
-    normal_mass: np.ndarray
-    tangent_mass: np.ndarray
-    separation: np.ndarray  # at the start of the step
-    base_separation: np.ndarray  # separation = base + J . pose during the step
-    relative_velocity: np.ndarray
-    relative_acceleration: np.ndarray  # normal, from gravity and applied forces
-    restitution: np.ndarray
-    friction: np.ndarray
-    bias_rate: np.ndarray
-    mass_scale: np.ndarray
-    impulse_scale: np.ndarray
-    normal_impulse: np.ndarray
-    tangent_impulse: np.ndarray
-    max_normal_impulse: np.ndarray  # largest solver increment this step (did it push?)
-    impact_velocity: np.ndarray  # normal velocity when the point first pushed (0: not yet)
-    step_impulse: np.ndarray  # normal impulse applied over the whole step (N s)
-    watched: np.ndarray | None  # shared points that may bounce: whose impact_velocity to keep
-    anchor_ax: np.ndarray
-    anchor_ay: np.ndarray
-    bounds: np.ndarray
-    colour: np.ndarray  # of each point, in colour order
-    order: np.ndarray | None  # colour order -> key order (None: already in key order)
-
-    @property
-    def size(self) -> int:
-        return int(self.key.size)
-
-    def cache(self) -> Cache:
-        """The points' impulses and colours by key (the points arrived sorted by key)."""
-        if self.order is None:
-            return Cache(
-                self.key,
-                self.body_a,
-                self.body_b,
-                self.normal_impulse,
-                self.tangent_impulse,
-                self.colour,
+            < key
+        ):
+            j += 1
+        found = (
+            j < cached
+            and point_key(
+                contact_i[w, j, BODY_A], contact_i[w, j, BODY_B], contact_i[w, j, FEATURE]
             )
-        back = np.empty_like(self.order)
-        back[self.order] = np.arange(self.order.size)
-        return Cache(
-            self.key[back],
-            self.body_a[back],
-            self.body_b[back],
-            self.normal_impulse[back],
-            self.tangent_impulse[back],
-            self.colour[back],
+            == key
         )
+        points[k, NORMAL_J] = contact[w, j, NORMAL_IMPULSE] if found else 0.0
+        points[k, TANGENT_J] = contact[w, j, TANGENT_IMPULSE] if found else 0.0
 
 
-def build(
-    point_key: np.ndarray,
-    local_key: np.ndarray,
-    body_a: np.ndarray,
-    body_b: np.ndarray,
-    points: Points,
-    bodies: dict[str, np.ndarray],
-    carried: tuple[np.ndarray, np.ndarray, np.ndarray],
-    rules: tuple[str, str],
-    softness: tuple[tuple[float, float, float], tuple[float, float, float]],
-    h: float,
-) -> Contacts:
-    """Turn narrowphase points into colour-sorted constraints.
+@kernel
+def prepare(body, w, ctx, terms, points, ids, n) -> None:
+    """Effective masses, mixed materials, softness and the normal velocity and
+    acceleration at the start of the step, for every point."""
+    restitution_rule = int(ctx[ctx_.RESTITUTION_RULE])
+    friction_rule = int(ctx[ctx_.FRICTION_RULE])
+    inv_h = ctx[ctx_.INV_H]
+    for k in range(n):
+        a, b = ids[k, 0], ids[k, 1]
+        nx, ny = points[k, NX], points[k, NY]
+        tx, ty = ny, -nx
+        rax, ray, rbx, rby = points[k, RAX], points[k, RAY], points[k, RBX], points[k, RBY]
+        ima, iia = terms[a, STEP_INV_MASS], terms[a, STEP_INV_MOMENT]
+        imb, iib = terms[b, STEP_INV_MASS], terms[b, STEP_INV_MOMENT]
+        points[k, IMA], points[k, IIA], points[k, IMB], points[k, IIB] = ima, iia, imb, iib
+        rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
+        rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
+        points[k, RNA], points[k, RNB], points[k, RTA], points[k, RTB] = rna, rnb, rta, rtb
+        k_normal = ima + imb + iia * rna * rna + iib * rnb * rnb
+        k_tangent = ima + imb + iia * rta * rta + iib * rtb * rtb
+        points[k, NORMAL_MASS] = 1.0 / k_normal if k_normal > 0.0 else 0.0
+        points[k, TANGENT_MASS] = 1.0 / k_tangent if k_tangent > 0.0 else 0.0
+        points[k, APPROACH_SPEED] = (
+            -(nx * body[w, a, VX] + ny * body[w, a, VY])
+            - rna * body[w, a, W]
+            + nx * body[w, b, VX]
+            + ny * body[w, b, VY]
+            + rnb * body[w, b, W]
+        )
+        points[k, NORMAL_ACCEL] = (
+            -(nx * terms[a, ACCEL_X] + ny * terms[a, ACCEL_Y])
+            - rna * terms[a, ACCEL_W]
+            + nx * terms[b, ACCEL_X]
+            + ny * terms[b, ACCEL_Y]
+            + rnb * terms[b, ACCEL_W]
+        ) * inv_h
+        points[k, MIXED_RESTITUTION] = mix(
+            restitution_rule, body[w, a, RESTITUTION], body[w, b, RESTITUTION]
+        )
+        points[k, MIXED_FRICTION] = mix(friction_rule, body[w, a, FRICTION], body[w, b, FRICTION])
+        # Against a body that cannot move, the contact is twice as stiff (Box2D).
+        hard = terms[a, MOVABLE] == 0.0 or terms[b, MOVABLE] == 0.0
+        base = ctx_.HARD_RATE if hard else ctx_.SOFT_RATE
+        points[k, BIAS_RATE] = ctx[base]
+        points[k, MASS_SCALE] = ctx[base + 1]
+        points[k, IMPULSE_SCALE] = ctx[base + 2]
+        same_before = k > 0 and ids[k - 1, 0] == a and ids[k - 1, 1] == b
+        same_after = k + 1 < n and ids[k + 1, 0] == a and ids[k + 1, 1] == b
+        points[k, SHARED] = 1.0 if same_before or same_after else 0.0
+        points[k, STEP_J] = 0.0
+        points[k, MAX_J] = 0.0
+        points[k, IMPACT_V] = 0.0
 
-    ``bodies`` holds flat per-body arrays: ``inv_mass`` and ``inv_moment`` (0 for bodies
-    that cannot move this step), ``movable`` (bool), ``restitution``, ``friction``, and
-    the ``(3, T)`` ``pose``, ``vel`` and ``accel_h`` (``h`` times the acceleration from
-    gravity and applied forces, ``h`` the substep).
-    ``carried`` is what the cache holds for the points (impulses and colour, see
-    ``Cache.lookup``). ``softness`` is ``(between dynamic bodies, against an immovable
-    body)``.
-    """
-    total = bodies["inv_mass"].size
-    movable = bodies["movable"]
-    normal_impulse, tangent_impulse, previous = carried
-    colours = colour(body_a, body_b, ~movable[body_a], ~movable[body_b], local_key, total, previous)
-    # Points that share their pair with another point (a face against a face): restitution
-    # treats them differently (see solver.restitution). The points come sorted by key, so
-    # a pair's points are neighbours.
-    pair = point_key // FEATURES
-    twin = pair[1:] == pair[:-1]
-    shared = np.zeros(pair.size, dtype=bool)
-    shared[1:] |= twin
-    shared[:-1] |= twin
-    fields = [
-        shared,
-        normal_impulse,
-        tangent_impulse,
-        colours,
-        point_key,
-        body_a,
-        body_b,
-        points.normal_x,
-        points.normal_y,
-        points.anchor_ax,
-        points.anchor_ay,
-        points.anchor_bx,
-        points.anchor_by,
-        points.separation,
-    ]
-    order = None
-    if not colours.any():  # one colour: already in order
-        bounds = np.array([0, colours.size])
-    else:
-        order = np.argsort(colours, kind="stable")
-        fields = [array[order] for array in fields]
-        bounds = np.concatenate([[0], np.cumsum(np.bincount(colours))])
-    shared = fields[0]
-    normal_impulse, tangent_impulse, colours, key, a, b, nx, ny, rax, ray, rbx, rby = fields[1:13]
-    separation = fields[13]
-    tx, ty = ny, -nx
-    ima, imb = bodies["inv_mass"][a], bodies["inv_mass"][b]
-    iia, iib = bodies["inv_moment"][a], bodies["inv_moment"][b]
-    rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
-    rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
-    jac_n = np.stack([-nx, -ny, -rna, nx, ny, rnb])
-    jac_t = np.stack([-tx, -ty, -rta, tx, ty, rtb])
-    inverse = np.stack([ima, ima, iia, imb, imb, iib])  # the diagonal of M^-1, per end
-    inv_n, inv_t = inverse * jac_n, inverse * jac_t
-    k_normal = (jac_n * inv_n).sum(axis=0)  # J M^-1 J^T
-    k_tangent = (jac_t * inv_t).sum(axis=0)
-    index6 = np.stack([a, a + total, a + 2 * total, b, b + total, b + 2 * total])
-    relative_velocity = (jac_n * bodies["vel"].reshape(-1)[index6]).sum(axis=0)
-    if bodies["accel_h"] is None:  # no gravity, no applied forces
-        relative_acceleration = np.zeros(key.size)
-    else:
-        relative_acceleration = (jac_n * bodies["accel_h"].reshape(-1)[index6]).sum(axis=0) / h
-    # Separation as the solver tracks it: base + J . pose, with base fixed for the step.
-    base = separation - (jac_n * bodies["pose"].reshape(-1)[index6]).sum(axis=0)
-    restitution = mix(rules[0], bodies["restitution"][a], bodies["restitution"][b])
-    both = movable[a] & movable[b]
-    soft = [np.where(both, softness[0][i], softness[1][i]) for i in range(3)]
-    return Contacts(
-        key=key,
-        body_a=a,
-        body_b=b,
-        index6=index6,
-        normal_x=nx,
-        normal_y=ny,
-        jac_n=jac_n,
-        inv_n=inv_n,
-        jac_t=jac_t,
-        inv_t=inv_t,
-        normal_mass=_inverse(k_normal),
-        tangent_mass=_inverse(k_tangent),
-        separation=separation,
-        base_separation=base,
-        relative_velocity=relative_velocity,
-        relative_acceleration=relative_acceleration,
-        restitution=restitution,
-        friction=mix(rules[1], bodies["friction"][a], bodies["friction"][b]),
-        bias_rate=soft[0],
-        mass_scale=soft[1],
-        impulse_scale=soft[2],
-        normal_impulse=normal_impulse,
-        tangent_impulse=tangent_impulse,
-        max_normal_impulse=np.zeros(key.size),
-        impact_velocity=np.zeros(key.size),
-        step_impulse=np.zeros(key.size),
-        watched=_watched(shared, relative_velocity, restitution),
-        anchor_ax=rax,
-        anchor_ay=ray,
-        bounds=bounds,
-        colour=colours,
-        order=order,
+
+@inline
+def dormant(body_i, contact_i, world_i, w, terms, j) -> bool:
+    """A cached point whose two bodies both rest this step (and exist): kept as it is."""
+    a, b = contact_i[w, j, BODY_A], contact_i[w, j, BODY_B]
+    return (
+        (terms[a, MOVING] == 0.0)
+        & (terms[b, MOVING] == 0.0)
+        & (body_i[w, a, ENABLED] == 1)
+        & (body_i[w, b, ENABLED] == 1)
     )
 
 
-def _watched(
-    shared: np.ndarray, relative_velocity: np.ndarray, restitution: np.ndarray
-) -> np.ndarray | None:
-    """Indices of the points whose velocity at first touch restitution will need."""
-    watched = np.flatnonzero(shared & (relative_velocity < 0.0) & (restitution > 0.0))
-    return watched if watched.size else None
+@kernel
+def count_dormant(body_i, contact_i, world_i, w, terms) -> int:
+    count = 0
+    for j in range(world_i[w, CONTACT_COUNT]):
+        if dormant(body_i, contact_i, world_i, w, terms, j):
+            count += 1
+    return count
 
 
-def _inverse(k: np.ndarray) -> np.ndarray:
-    """1 / k, and 0 where k is 0 (a constraint between two immovable bodies)."""
-    return np.divide(1.0, k, out=np.zeros_like(k), where=k > 0.0)
+@kernel
+def _copy_point(merged, merged_ids, m, points, ids, k, terms) -> None:
+    a = ids[k, 0]
+    merged[m, NORMAL_IMPULSE] = points[k, NORMAL_J]
+    merged[m, TANGENT_IMPULSE] = points[k, TANGENT_J]
+    merged[m, STEP_IMPULSE] = points[k, STEP_J]
+    merged[m, APPROACH] = points[k, APPROACH_SPEED]
+    merged[m, POINT_X] = terms[a, X0] + points[k, RAX]
+    merged[m, POINT_Y] = terms[a, Y0] + points[k, RAY]
+    merged[m, CONTACT_NX] = points[k, NX]
+    merged[m, CONTACT_NY] = points[k, NY]
+    merged[m, SEPARATION] = points[k, SEP0]
+    merged_ids[m, 0], merged_ids[m, 1], merged_ids[m, 2] = ids[k, 0], ids[k, 1], ids[k, 2]
 
 
-def point_keys(pair_key: np.ndarray, feature: np.ndarray) -> np.ndarray:
-    """A point's key: its pair's key and its feature id."""
-    return pair_key * FEATURES + feature
+@kernel
+def store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids):
+    """The new cache: this step's points merged, in key order, with the dormant ones."""
+    cached, m, j = world_i[w, CONTACT_COUNT], 0, 0
+    for k in range(n + 1):
+        key = point_key(ids[k, 0], ids[k, 1], ids[k, 2]) if k < n else -1
+        while j < cached:
+            old = point_key(
+                contact_i[w, j, BODY_A], contact_i[w, j, BODY_B], contact_i[w, j, FEATURE]
+            )
+            if k < n and old > key:
+                break
+            j += 1
+            if k < n and old == key:
+                break  # this step's point replaces it
+            if dormant(body_i, contact_i, world_i, w, terms, j - 1):
+                for column in range(CONTACT_F):
+                    merged[m, column] = contact[w, j - 1, column]
+                merged[m, STEP_IMPULSE] = 0.0
+                for column in range(CONTACT_I):
+                    merged_ids[m, column] = contact_i[w, j - 1, column]
+                m += 1
+        if k < n:
+            _copy_point(merged, merged_ids, m, points, ids, k, terms)
+            m += 1
+    for j in range(m):
+        for column in range(CONTACT_F):
+            contact[w, j, column] = merged[j, column]
+        for column in range(CONTACT_I):
+            contact_i[w, j, column] = merged_ids[j, column]
+    world_i[w, CONTACT_COUNT] = m

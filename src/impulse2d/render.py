@@ -28,7 +28,26 @@ import numpy as np
 
 from . import _checks
 from . import _raster as raster
-from .state import BOX, CIRCLE, DYNAMIC, FIXED, KINEMATIC, PLANE
+from .state import (
+    ANGLE,
+    AWAKE,
+    BOUND,
+    BOX,
+    CIRCLE,
+    DYNAMIC,
+    ENABLED,
+    FIXED,
+    HALF_H,
+    HALF_W,
+    KINEMATIC,
+    NORMAL_X,
+    NORMAL_Y,
+    PLANE,
+    VX,
+    VY,
+    X,
+    Y,
+)
 
 if TYPE_CHECKING:
     from .world import World
@@ -53,7 +72,7 @@ class Camera:
     def fit_view(cls, view: Any, width: int, height: int) -> Camera:
         """The camera that shows the rectangle ``view = (xmin, ymin, xmax, ymax)`` (m)
         whole, centred, keeping the aspect ratio."""
-        xmin, ymin, xmax, ymax = _checks.finite_array("view", view, (4,)).tolist()
+        xmin, ymin, xmax, ymax = _checks.real_array("view", view, (4,)).tolist()
         if xmax <= xmin or ymax <= ymin:
             raise ValueError(f"view must have xmax > xmin and ymax > ymin, got {view!r}")
         scale = min(width / (xmax - xmin), height / (ymax - ymin))
@@ -65,13 +84,13 @@ class Camera:
     ) -> Camera:
         """The camera that shows every enabled circle and box of one world, with a margin
         (a fraction of the frame) around them. Planes are infinite and not fitted."""
-        b = world._bodies
-        kind, pose = world._kind, b["pose"][:, world_index]
-        shown = ((kind == CIRCLE) | (kind == BOX)) & b["enabled"][world_index]
-        if not shown.any():
+        view = _WorldView(world, world_index)
+        shown = view.slots(moving=True)
+        shown = np.concatenate([shown, view.slots(moving=False)])
+        if not shown.size:
             return cls.fit_view((-5.0, -5.0, 5.0, 5.0), width, height)
-        reach = b["bound"][world_index][shown]
-        x, y = pose[0][shown], pose[1][shown]
+        reach = world.state.body[world_index, shown, BOUND]
+        x, y = view.x[shown], view.y[shown]
         xmin, xmax = float((x - reach).min()), float((x + reach).max())
         ymin, ymax = float((y - reach).min()), float((y + reach).max())
         pad = margin * max(xmax - xmin, ymax - ymin, 1e-3)
@@ -283,21 +302,16 @@ class Renderer:
             _zigzag(canvas, x0, y0, x1, y1, colour)
 
     def _draw_contacts(self, canvas: np.ndarray, world: World, index: int) -> None:
-        contacts = world.last_contacts
-        if contacts is None or contacts.size == 0:
+        contacts = world.contacts(index)
+        if contacts.size == 0:
             return
-        slots = world._bodies.capacity
-        mine = contacts.body_a // slots == index
-        pose = world._views["pose"]
-        a = contacts.body_a[mine]
-        x = pose[0, a] + contacts.anchor_ax[mine]
-        y = pose[1, a] + contacts.anchor_ay[mine]
-        nx, ny = contacts.normal_x[mine], contacts.normal_y[mine]
+        x, y = contacts.point[:, 0], contacts.point[:, 1]
+        nx, ny = contacts.normal[:, 0], contacts.normal[:, 1]
         dot, line = (
             np.asarray(self.style.contact, np.float32),
             np.asarray(self.style.normal, np.float32),
         )
-        for i in range(a.size):
+        for i in range(contacts.size):
             px, py = self._px(float(x[i]), float(y[i]))
             raster.segment(
                 canvas, px, py, px + 12.0 * float(nx[i]), py - 12.0 * float(ny[i]), 1.5, line
@@ -330,13 +344,13 @@ class _WorldView:
     """The arrays of one world of a batch that drawing needs, as plain per-slot arrays."""
 
     def __init__(self, world: World, index: int) -> None:
-        b = world._bodies
-        self.kind, self.motion = world._kind, world._motion
-        self.enabled, self.awake = b["enabled"][index], b["awake"][index]
-        self.x, self.y, self.angle = (b["pose"][k, index] for k in range(3))
-        self.vx, self.vy = b["vel"][0, index], b["vel"][1, index]
-        self.half_w, self.half_h = b["half_width"][index], b["half_height"][index]
-        self.normal_x, self.normal_y = b["normal_x"][index], b["normal_y"][index]
+        body, body_i = world.state.body[index], world.state.body_i[index]
+        self.kind, self.motion = world.layout.kind, world.layout.motion
+        self.enabled, self.awake = body_i[:, ENABLED] == 1, body_i[:, AWAKE] == 1
+        self.x, self.y, self.angle = body[:, X], body[:, Y], body[:, ANGLE]
+        self.vx, self.vy = body[:, VX], body[:, VY]
+        self.half_w, self.half_h = body[:, HALF_W], body[:, HALF_H]
+        self.normal_x, self.normal_y = body[:, NORMAL_X], body[:, NORMAL_Y]
 
     def slots(self, moving: bool) -> np.ndarray:
         """Enabled circles and boxes that can move (or that are fixed), in slot order."""

@@ -1,14 +1,15 @@
 """The friendly objects: ``Circle``, ``Box`` and ``Plane``, views of one body slot.
 
 As in pymunk, an object holds no physics state of its own once it is in a world: every
-attribute is a property that reads a fresh copy from the world's arrays, and every
-setter validates its input, writes the arrays and wakes the body. Before ``World.add``
-(and after ``World.remove``) the object keeps its values itself, so nothing a user set
-up is lost by removing and adding again.
+attribute is a property that reads a fresh copy from the world's arrays
+(``world.state.body[:, slot, ...]``), and every setter validates its input and writes
+through ``edit``, which keeps derived values consistent and wakes the body. Before
+``World.add`` (and after ``World.remove``) the object keeps its values itself, so nothing
+a user set up is lost by removing and adding again.
 
 In a batch of ``B`` worlds a property returns one value per world (shape ``(B,)`` or
-``(B, 2)``) and a setter accepts either one value for every world or one per world.
-In a single world (``B == 1``) values are plain floats and arrays of shape ``(2,)``.
+``(B, 2)``) and a setter accepts either one value for every world or one per world. In
+a single world (``B == 1``) values are plain floats and arrays of shape ``(2,)``.
 """
 
 from __future__ import annotations
@@ -17,35 +18,71 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _checks
-from .state import BOX, CIRCLE, DYNAMIC, FIXED, KINEMATIC, PLANE
+from . import _checks, edit
+from .state import (
+    ANGLE,
+    ANGULAR_DRAG,
+    AWAKE,
+    BOX,
+    CIRCLE,
+    DYNAMIC,
+    ENABLED,
+    FIRST_CONTACT,
+    FIXED,
+    FRICTION,
+    HALF_H,
+    HALF_W,
+    HEALTH,
+    KINEMATIC,
+    LINEAR_DRAG,
+    MASS,
+    MOMENT,
+    PLANE,
+    RESTITUTION,
+    ROLLING,
+    SENSED,
+    VX,
+    VY,
+    W,
+    X,
+    Y,
+)
 
 if TYPE_CHECKING:
     from .world import World
 
 
-class _Field:
-    """Descriptor for one per-world value of a slot: a scalar or one row of a vector field.
+def per_world(values: np.ndarray, batch: int) -> Any:
+    """A (B, ...) readout as the user sees it: as is in a batch, a float or a (2,) array
+    in a single world."""
+    if batch == 1:
+        single = values[0]
+        return single.item() if single.ndim == 0 else single
+    return values
 
-    ``array``/``rows`` say where it lives in the world's body table; ``rule`` is the
-    validation (``'> 0'``, ``'>= 0'`` or ``None`` for any finite number); ``rebuild``
-    says the derived mass properties must be recomputed after a write; ``moves`` says
-    the write teleports the body (the broadphase must look at it again).
+
+class _Field:
+    """Descriptor for one per-world value of a body: a scalar column or a 2-vector.
+
+    ``columns`` are ``state.body`` columns; ``rule`` is the validation (``'> 0'``,
+    ``'>= 0'`` or ``None`` for any finite number; ``finite=False`` also admits +inf);
+    ``rebuild``: the derived mass properties must be recomputed after a write; ``moves``:
+    the write teleports or resizes the body (what rested on it wakes);
+    ``scale``: stored = value * scale (a box stores half its width).
     """
 
     def __init__(
         self,
-        array: str,
-        rows: slice | int | None = None,
+        columns: tuple[int, ...],
         rule: str | None = None,
         rebuild: bool = False,
         moves: bool = False,
         scale: float = 1.0,
+        finite: bool = True,
         doc: str = "",
     ) -> None:
-        self.array, self.rows, self.rule = array, rows, rule
-        self.rebuild, self.moves = rebuild, moves
-        self.scale = scale  # stored = value * scale (a box stores half its width)
+        self.columns, self.rule = list(columns), rule
+        self.rebuild, self.moves, self.scale, self.finite = rebuild, moves, scale, finite
         self.__doc__ = doc
 
     def __set_name__(self, owner: type, name: str) -> None:
@@ -53,7 +90,7 @@ class _Field:
 
     @property
     def tail(self) -> tuple[int, ...]:
-        return (2,) if isinstance(self.rows, slice) else ()
+        return (2,) if len(self.columns) == 2 else ()
 
     def __get__(self, obj: Any, owner: type | None = None) -> Any:
         if obj is None:
@@ -61,30 +98,48 @@ class _Field:
         if obj._world is None:
             value = obj._values[self.name]
             return value.copy() if isinstance(value, np.ndarray) else value
-        value = obj._world._read_slot(obj._slot, self.array, self.rows)
-        return value if self.scale == 1.0 else value / self.scale
+        world = obj._world
+        values = world.state.body[:, obj._slot, self.columns]
+        if not self.tail:
+            values = values[:, 0]
+        values = values / self.scale if self.scale != 1.0 else values.copy()
+        return per_world(values, world.batch_size)
+
+    def validate(self, obj: Any, value: Any, batch: int | None) -> np.ndarray:
+        """The value checked against the field's rules; (B, *tail) when ``batch`` is given."""
+        if batch is None:
+            array = _checks.real_array(self.name, value, finite=self.finite)
+            if array.shape != self.tail and array.shape[1:] != self.tail:
+                want = self.tail
+                raise ValueError(
+                    f"{self.name} must have shape {want} or (batch, *{want}), got {array.shape}"
+                )
+        else:
+            array = _checks.batched(self.name, value, batch, self.tail, finite=self.finite)
+        if self.rule:
+            _checks.batched_rule(self.name, array, self.rule)
+        obj._check_value(self.name, array)
+        return array
 
     def __set__(self, obj: Any, value: Any) -> None:
         obj._check_settable(self.name)
-        if obj._world is None:
-            validated = obj._validate(self.name, value, self.tail, self.rule)
-            obj._check_batched(self.name, np.asarray(validated))
-            obj._values[self.name] = validated
-            return
         world = obj._world
-        array = _checks.batched(self.name, value, world.batch_size, self.tail)
-        if self.rule:
-            _checks.batched_rule(self.name, array, self.rule)
-        obj._check_batched(self.name, array)
-        world._write_slot(obj._slot, self.array, self.rows, array * self.scale, moves=self.moves)
+        if world is None:
+            array = self.validate(obj, value, None)
+            obj._values[self.name] = float(array) if array.shape == () else array
+            return
+        array = self.validate(obj, value, world.batch_size)
+        stored = (array * self.scale).reshape(world.batch_size, len(self.columns))
+        edit.write_body(world, obj._slot, self.columns, stored, moves=self.moves)
         if self.rebuild:
-            world._rebuild_mass(obj._slot)
+            edit.rebuild_mass(world, obj._slot)
 
 
 class _Slot:
-    """What Circle, Box and Plane share: binding to a world slot, validation, queries."""
+    """What Circle, Box and Plane share: binding to a world slot, validation."""
 
     _kind: int = -1
+    _motion: int = FIXED
     _fixed_names: tuple[str, ...] = ()
     _saved: tuple[str, ...] = ()  # what a detached object keeps (see World.remove)
 
@@ -93,7 +148,6 @@ class _Slot:
         self._slot = -1
         self._values: dict[str, Any] = {}
 
-    # -- binding ---------------------------------------------------------------------------
     @property
     def world(self) -> World | None:
         """The world this object is in, or None."""
@@ -104,25 +158,17 @@ class _Slot:
         """Index of this object's slot in its world's arrays (-1 when not in a world)."""
         return self._slot
 
-    def _validate(self, name: str, value: Any, tail: tuple[int, ...], rule: str | None) -> Any:
-        """Validate a value for a detached object; a batched array is kept as it is."""
-        array = _checks.finite_array(name, value)
-        if array.shape != tail and array.shape[1:] != tail:
-            raise ValueError(
-                f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}"
-            )
-        if rule:
-            _checks.batched_rule(name, array, rule)
-        if array.shape == tail:
-            return float(array) if tail == () else array
-        return array
-
     def _check_settable(self, name: str) -> None:
         if name in self._fixed_names:
             raise AttributeError(f"{name} cannot be changed after construction")
 
-    def _check_batched(self, name: str, array: np.ndarray) -> None:
+    def _check_value(self, name: str, array: np.ndarray) -> None:
         """Hook for rules that depend on more than one field (mass of a dynamic body)."""
+
+    def _read(self, column: int, integer: bool = False) -> Any:
+        world = self._world
+        array = world.state.body_i if integer else world.state.body
+        return per_world(array[:, self._slot, column].copy(), world.batch_size)
 
     def __repr__(self) -> str:
         where = f"slot {self._slot}" if self._world is not None else "not in a world"
@@ -138,24 +184,29 @@ class Body(_Slot):
     ``linear_drag`` and ``angular_drag`` (1/s: speeds decay as ``exp(-drag t)``),
     ``rolling_resistance`` (m/s^2: the speed falls by this much per second until the body
     stops, as a ball rolling on cloth in a top-down scene: 0.1 for a pool ball),
-    ``fixed`` (never moves: infinite mass) and ``kinematic`` (moves with the velocity
-    you give it, pushes dynamic bodies, is not pushed back: infinite mass).
+    ``health`` (N s, > 0; default inf, unbreakable: impacts closing faster than the
+    world's ``damage_speed`` drain it by their impulse, and at 0 the body is switched
+    off), ``fixed`` (never moves: infinite mass) and ``kinematic`` (moves with the
+    velocity you give it, pushes dynamic bodies, is not pushed back: infinite mass).
 
     The tutorial gives fixed bodies "a high mass"; here they have infinite mass (zero
     inverse mass), so nothing can move them and no energy leaks into them.
     """
 
-    position = _Field("pose", slice(0, 2), moves=True, doc="Centre of mass (m), settable.")
-    velocity = _Field("vel", slice(0, 2), doc="Linear velocity (m/s), settable.")
-    angle = _Field("pose", 2, moves=True, doc="Rotation (rad, counter-clockwise), settable.")
-    angular_velocity = _Field("vel", 2, doc="Angular velocity (rad/s, CCW), settable.")
-    mass = _Field("mass", rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
-    restitution = _Field("restitution", rule=">= 0", doc="Coefficient of restitution.")
-    friction = _Field("friction", rule=">= 0", doc="Coulomb friction coefficient.")
-    linear_drag = _Field("linear_drag", rule=">= 0", doc="Linear drag (1/s).")
-    angular_drag = _Field("angular_drag", rule=">= 0", doc="Angular drag (1/s).")
+    position = _Field((X, Y), moves=True, doc="Centre of mass (m), settable.")
+    velocity = _Field((VX, VY), doc="Linear velocity (m/s), settable.")
+    angle = _Field((ANGLE,), moves=True, doc="Rotation (rad, counter-clockwise), settable.")
+    angular_velocity = _Field((W,), doc="Angular velocity (rad/s, CCW), settable.")
+    mass = _Field((MASS,), rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
+    restitution = _Field((RESTITUTION,), rule=">= 0", doc="Coefficient of restitution.")
+    friction = _Field((FRICTION,), rule=">= 0", doc="Coulomb friction coefficient.")
+    linear_drag = _Field((LINEAR_DRAG,), rule=">= 0", doc="Linear drag (1/s).")
+    angular_drag = _Field((ANGULAR_DRAG,), rule=">= 0", doc="Angular drag (1/s).")
     rolling_resistance = _Field(
-        "rolling_resistance", rule=">= 0", doc="Constant deceleration of the speed (m/s^2)."
+        (ROLLING,), rule=">= 0", doc="Constant deceleration of the speed (m/s^2)."
+    )
+    health = _Field(
+        (HEALTH,), rule="> 0", finite=False, doc="Left before impacts break it (N s); inf: never."
     )
 
     _saved = (
@@ -169,6 +220,7 @@ class Body(_Slot):
         "linear_drag",
         "angular_drag",
         "rolling_resistance",
+        "health",
     )
 
     def __init__(
@@ -184,6 +236,7 @@ class Body(_Slot):
         linear_drag: Any = 0.0,
         angular_drag: Any = 0.0,
         rolling_resistance: Any = 0.0,
+        health: Any = np.inf,
         fixed: bool = False,
         kinematic: bool = False,
     ) -> None:
@@ -195,7 +248,7 @@ class Body(_Slot):
         self._motion = FIXED if fixed else KINEMATIC if kinematic else DYNAMIC
         if self._motion == FIXED:
             for name, value in (("velocity", velocity), ("angular_velocity", angular_velocity)):
-                if np.any(_checks.finite_array(name, value) != 0.0):
+                if np.any(_checks.real_array(name, value) != 0.0):
                     raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
         values = {
             "position": position,
@@ -207,12 +260,13 @@ class Body(_Slot):
             "linear_drag": linear_drag,
             "angular_drag": angular_drag,
             "rolling_resistance": rolling_resistance,
+            "health": health,
         }
         for name, value in values.items():
             setattr(self, name, value)
         self.mass = mass
 
-    def _check_batched(self, name: str, array: np.ndarray) -> None:
+    def _check_value(self, name: str, array: np.ndarray) -> None:
         if name == "mass" and self._motion == DYNAMIC and np.any(array <= 0.0):
             raise ValueError(f"mass of a dynamic body must be > 0, got {array[array <= 0].flat[0]}")
 
@@ -232,7 +286,7 @@ class Body(_Slot):
         """Moment of inertia about the centre (kg m^2), derived from mass and size."""
         if self._world is None:
             return self._moment_of(self._values["mass"])
-        return self._world._read_slot(self._slot, "moment", None)
+        return self._read(MOMENT)
 
     def _moment_of(self, mass: Any) -> Any:  # pragma: no cover - overridden
         raise NotImplementedError
@@ -242,25 +296,45 @@ class Body(_Slot):
         """False while the body sleeps (bool per world). Fixed bodies are never awake."""
         if self._world is None:
             return self._motion != FIXED
-        return self._world._read_slot(self._slot, "awake", None)
+        return per_world(
+            self._world.state.body_i[:, self._slot, AWAKE] == 1, self._world.batch_size
+        )
 
     @property
     def enabled(self) -> Any:
         """Whether the body takes part in each world; settable per world (shape (B,))."""
         if self._world is None:
             return True
-        return self._world._read_slot(self._slot, "enabled", None)
+        return per_world(
+            self._world.state.body_i[:, self._slot, ENABLED] == 1, self._world.batch_size
+        )
 
     @enabled.setter
     def enabled(self, value: Any) -> None:
         if self._world is None:
             raise ValueError("enabled can only be set on a body in a world; use World.add")
-        self._world._set_enabled(self._slot, value)
+        batch = self._world.batch_size
+        flags = np.asarray(value)
+        if flags.dtype != np.bool_ or flags.shape not in ((), (batch,)):
+            raise ValueError(f"enabled must be a bool or {batch} bools, got {value!r}")
+        edit.set_enabled(self._world, self._slot, np.broadcast_to(flags, (batch,)))
+
+    @property
+    def sensed(self) -> Any:
+        """The slot (in ``world.sensors``) of the last sensor whose region this body's
+        centre entered, -1 if none since ``World.reset_events`` (int per world)."""
+        return self._read(SENSED, integer=True) if self._world is not None else -1
+
+    @property
+    def first_contact(self) -> Any:
+        """The slot of the first body this one pushed against since
+        ``World.reset_events``, -1 if none (int per world)."""
+        return self._read(FIRST_CONTACT, integer=True) if self._world is not None else -1
 
     def wake(self) -> None:
         """Wake the body (and, at the next step, everything touching it)."""
         if self._world is not None:
-            self._world._wake_slot(self._slot)
+            edit.wake(self._world, np.arange(self._world.batch_size), self._slot)
 
     # -- forces ------------------------------------------------------------------------------
     def apply_force(self, force: Any, point: Any = None) -> None:
@@ -269,8 +343,7 @@ class Body(_Slot):
         A force off the centre also applies the torque ``r x F``. Forces are cleared
         after every step. Fixed and kinematic bodies are not affected.
         """
-        self._require_world("apply_force")
-        self._world._apply(self._slot, "force", force, point, "force")
+        self._apply(force, point, "force")
 
     def apply_impulse(self, impulse: Any, point: Any = None) -> None:
         """Change momentum at once by ``impulse`` (N s) at a world point; wakes the body.
@@ -278,12 +351,15 @@ class Body(_Slot):
         This is what the tutorial's mouse cue does (its ``ApplyForce`` in collisions
         and for the cue is really an impulse: it changes velocity by ``J / m`` at once).
         """
-        self._require_world("apply_impulse")
-        self._world._apply(self._slot, "impulse", impulse, point, "impulse")
+        self._apply(impulse, point, "impulse")
 
-    def _require_world(self, what: str) -> None:
+    def _apply(self, vector: Any, point: Any, name: str) -> None:
         if self._world is None:
-            raise ValueError(f"{what} needs the body to be in a world; use World.add first")
+            raise ValueError(f"apply_{name} needs the body to be in a world; use World.add first")
+        batch = self._world.batch_size
+        push = _checks.batched(name, vector, batch, (2,))
+        where = None if point is None else _checks.batched("point", point, batch, (2,))
+        edit.apply(self._world, self._slot, name == "force", push, where)
 
     # -- geometry --------------------------------------------------------------------------
     def to_world(self, local_point: Any) -> np.ndarray:
@@ -312,7 +388,7 @@ class Body(_Slot):
         batch = self._world.batch_size if self._world is not None else 1
         if batch == 1:
             return _checks.vector2(name, value)
-        array = _checks.finite_array(name, value)
+        array = _checks.real_array(name, value)
         if array.shape not in ((2,), (batch, 2)):
             raise ValueError(f"{name} must have shape (2,) or ({batch}, 2), got {array.shape}")
         return array
@@ -335,14 +411,14 @@ class Circle(Body):
 
     _kind = CIRCLE
     _saved = (*Body._saved, "radius")
-    radius = _Field("half_width", rule="> 0", rebuild=True, moves=True, doc="Radius (m).")
+    radius = _Field((HALF_W,), rule="> 0", rebuild=True, moves=True, doc="Radius (m).")
 
     def __init__(self, *, radius: Any = 0.5, **body: Any) -> None:
         super().__init__(**body)
         self.radius = radius
 
     def _moment_of(self, mass: Any) -> Any:
-        return 0.5 * mass * self.radius**2
+        return 0.5 * mass * self.radius * self.radius
 
     def _contains_local(self, local: np.ndarray) -> Any:
         inside = local[..., 0] ** 2 + local[..., 1] ** 2 <= np.asarray(self.radius) ** 2
@@ -359,10 +435,8 @@ class Box(Body):
 
     _kind = BOX
     _saved = (*Body._saved, "width", "height")
-    width = _Field("half_width", rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Width (m).")
-    height = _Field(
-        "half_height", rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Height (m)."
-    )
+    width = _Field((HALF_W,), rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Width (m).")
+    height = _Field((HALF_H,), rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Height (m).")
 
     def __init__(self, *, width: Any = 1.0, height: Any = 1.0, **body: Any) -> None:
         super().__init__(**body)
@@ -370,7 +444,7 @@ class Box(Body):
         self.height = height
 
     def _moment_of(self, mass: Any) -> Any:
-        return mass * (self.width**2 + self.height**2) / 12.0
+        return mass * (self.width * self.width + self.height * self.height) / 12.0
 
     def _contains_local(self, local: np.ndarray) -> Any:
         inside = (np.abs(local[..., 0]) <= 0.5 * np.asarray(self.width)) & (
@@ -391,9 +465,9 @@ class Plane(_Slot):
     _kind = PLANE
     _fixed_names = ("normal",)
     _saved = ("point", "restitution", "friction")
-    point = _Field("pose", slice(0, 2), moves=True, doc="A point on the plane's surface (m).")
-    restitution = _Field("restitution", rule=">= 0", doc="Coefficient of restitution.")
-    friction = _Field("friction", rule=">= 0", doc="Coulomb friction coefficient.")
+    point = _Field((X, Y), moves=True, doc="A point on the plane's surface (m).")
+    restitution = _Field((RESTITUTION,), rule=">= 0", doc="Coefficient of restitution.")
+    friction = _Field((FRICTION,), rule=">= 0", doc="Coulomb friction coefficient.")
 
     def __init__(
         self,
@@ -405,11 +479,10 @@ class Plane(_Slot):
     ) -> None:
         super().__init__()
         n = _checks.vector2("normal", normal)
-        length = float(np.hypot(n[0], n[1]))
+        length = float(np.sqrt(n[0] * n[0] + n[1] * n[1]))
         if length == 0.0:
             raise ValueError("normal must be non-zero, got (0.0, 0.0)")
         self._normal = n / length
-        self._motion = FIXED
         self.point = point
         self.restitution = restitution
         self.friction = friction
@@ -424,13 +497,3 @@ class Plane(_Slot):
         p = _checks.vector2("point", point)
         depth = (p - np.asarray(self.point)) @ self._normal
         return bool(depth <= 0.0) if np.ndim(depth) == 0 else depth <= 0.0
-
-
-def moment_of(kind: int, mass: np.ndarray, half_w: np.ndarray, half_h: np.ndarray) -> np.ndarray:
-    """Moment of inertia about the centre: disc ``m r^2 / 2``, box ``m (w^2 + h^2) / 12``."""
-    if kind == CIRCLE:
-        return 0.5 * mass * half_w**2
-    if kind == BOX:
-        # (w^2 + h^2) / 12 with w = 2 half_w: (4 hw^2 + 4 hh^2) / 12 = (hw^2 + hh^2) / 3
-        return mass * (half_w**2 + half_h**2) / 3.0
-    return np.zeros_like(mass)

@@ -1,65 +1,139 @@
-"""Sleeping by islands, as the tutorial's extra asks and Box2D does.
+"""Sleeping by islands, as the tutorial's extra asks and Box2D does; waking.
 
 A dynamic body whose speed stays below ``sleep_speed`` (with rotation counted as the
 speed of its bounding circle's rim, ``R |w|``) accumulates ``sleep_time``. An *island*
-is a set of dynamic bodies joined by contacts or springs; an island falls asleep when
-all its bodies have been slow for ``time_to_sleep`` seconds, and wakes as a whole when
-something awake touches any of its bodies. Sleeping bodies cost nothing: their pairs
-are skipped by the narrowphase, and they are neither integrated nor solved.
+is a set of moving dynamic bodies joined by contact points or springs; an island falls
+asleep when all its bodies have been slow for ``time_to_sleep`` seconds, and wakes as a
+whole when something that moves touches any of its bodies. Sleeping bodies cost
+nothing: their pairs are skipped, and they are neither integrated nor solved; a world in
+which everything sleeps is skipped altogether.
 
-Putting a single slow body to sleep while a neighbour still moves would leave it
-floating when the neighbour slides away; islands prevent that.
+Islands are found per world by union-find over this step's contact points, with the
+smallest slot as each island's root, which is also its id while it sleeps. Putting a
+single slow body to sleep while a neighbour still moves would leave it floating when the
+neighbour slides away; islands prevent that.
 """
 
 from __future__ import annotations
 
-import numpy as np
+from . import settings as ctx_
+from ._jit import kernel
+from .integrate import spring_acts
+from .state import (
+    AWAKE,
+    BODY_A,
+    BODY_B,
+    CONTACT_COUNT,
+    DYNAMIC,
+    ENABLED,
+    ISLAND,
+    SLEEP_TIME,
+    VX,
+    VY,
+    W,
+)
+from .workspace import MOVABLE, MOVING, SPEED
 
 
-def components(nodes: int, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Connected components of an undirected graph: each node's label is the smallest
-    node of its component. Vectorised label propagation with pointer jumping."""
-    label = np.arange(nodes)
-    if first.size == 0:
-        return label
-    while True:
-        la, lb = label[first], label[second]
-        if np.array_equal(la, lb):
-            return label
-        low = np.minimum(la, lb)
-        # Hook the root of each side onto the smaller root, then flatten the trees.
-        np.minimum.at(label, la, low)
-        np.minimum.at(label, lb, low)
-        while True:
-            jumped = label[label]
-            if np.array_equal(jumped, label):
-                break
-            label = jumped
+@kernel
+def wake_island(body, body_i, shapes, w, slot) -> bool:
+    """Wake a sleeping dynamic body with its whole island; returns whether it slept."""
+    if body_i[w, slot, AWAKE] == 1 or body_i[w, slot, ENABLED] == 0:
+        return False
+    if shapes[slot, 1] != DYNAMIC:
+        return False
+    island = body_i[w, slot, ISLAND]
+    for i in range(shapes.shape[0]):
+        member = i == slot or (island >= 0 and body_i[w, i, ISLAND] == island)
+        if member and body_i[w, i, AWAKE] == 0:
+            body_i[w, i, AWAKE] = 1
+            body_i[w, i, ISLAND] = -1
+            body[w, i, SLEEP_TIME] = 0.0
+    return True
 
 
-def fall_asleep(
-    ready: np.ndarray,
-    edges: tuple[np.ndarray, np.ndarray],
-) -> tuple[np.ndarray, np.ndarray]:
-    """Bodies whose whole island has been slow long enough, and their island labels.
+@kernel
+def wake_neighbours(body, body_i, shapes, contact_i, world_i, w, slot) -> None:
+    """Wake everything that touched ``slot`` at the last step (it is leaving, or moved
+    by hand, and what rested on it must not float)."""
+    for j in range(world_i[w, CONTACT_COUNT]):
+        a, b = contact_i[w, j, BODY_A], contact_i[w, j, BODY_B]
+        if a == slot:
+            wake_island(body, body_i, shapes, w, b)
+        elif b == slot:
+            wake_island(body, body_i, shapes, w, a)
 
-    ``ready`` lists the bodies (flat indices) slow for long enough; ``edges`` join awake
-    dynamic bodies that must sleep together. Only edges that touch a ready body matter:
-    an island with a body that is not ready stays awake, and islands of bodies that are
-    not ready are of no interest, so the work is proportional to the ready bodies.
-    Returns the bodies to put to sleep and an island label for each (a member's index).
-    """
-    first, second = edges
-    is_ready = np.zeros(
-        max(int(ready.max()), int(first.max(initial=0)), int(second.max(initial=0))) + 1, dtype=bool
-    )
-    is_ready[ready] = True
-    touching = is_ready[first] | is_ready[second]
-    first, second = first[touching], second[touching]
-    nodes = np.unique(np.concatenate([ready, first, second]))
-    local = components(nodes.size, np.searchsorted(nodes, first), np.searchsorted(nodes, second))
-    # An island sleeps only if every member is ready.
-    blocked = np.zeros(nodes.size, dtype=bool)
-    np.logical_or.at(blocked, local, ~is_ready[nodes])
-    sleepy = is_ready[nodes] & ~blocked[local]
-    return nodes[sleepy], nodes[local[sleepy]]
+
+@kernel
+def wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n) -> bool:
+    """Wake the islands that a moving body touches (a contact point or a spring);
+    returns whether anything woke."""
+    woke = False
+    for k in range(n + ends.shape[0]):
+        if k < n:
+            a, b = ids[k, 0], ids[k, 1]
+        else:
+            a, b = ends[k - n, 0], ends[k - n, 1]
+            if not spring_acts(body_i, spring, ends, w, k - n):
+                continue
+        if terms[a, MOVING] == terms[b, MOVING]:
+            continue  # both move, or neither (nothing moving touches a sleeper)
+        sleeper = b if terms[a, MOVING] == 1.0 else a
+        woke |= wake_island(body, body_i, shapes, w, sleeper)
+    return woke
+
+
+@kernel
+def _root(parents, i) -> int:
+    while parents[i] != i:
+        parents[i] = parents[parents[i]]  # path halving
+        i = parents[i]
+    return i
+
+
+@kernel
+def _join(parents, a, b) -> None:
+    ra, rb = _root(parents, a), _root(parents, b)
+    if ra < rb:
+        parents[rb] = ra  # the smallest slot stays the root: a deterministic island id
+    elif rb < ra:
+        parents[ra] = rb
+
+
+@kernel
+def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blocked) -> None:
+    """Accumulate slow time; put islands that have all been slow long enough to sleep.
+
+    Slowness uses the step's speed bound ``|vx| + |vy| + R |w|`` (a little stricter than
+    the speed itself). Islands join bodies by every narrowphase point, touching or about
+    to, not only those that pushed: contacts between bodies at rest push nothing, and
+    islands cut along them would sleep in pieces, each woken again by its neighbour."""
+    dt, limit = ctx[ctx_.DT], ctx[ctx_.TIME_TO_SLEEP]
+    count = parents.size
+    anyone = False
+    for i in range(count):
+        if terms[i, MOVABLE] == 1.0:
+            slow = terms[i, SPEED] < ctx[ctx_.SLEEP_SPEED]
+            body[w, i, SLEEP_TIME] = body[w, i, SLEEP_TIME] + dt if slow else 0.0
+            anyone |= body[w, i, SLEEP_TIME] >= limit
+    if not anyone:
+        return
+    for i in range(count):
+        parents[i], blocked[i] = i, 0
+    for k in range(n):
+        a, b = ids[k, 0], ids[k, 1]
+        if terms[a, MOVABLE] == 1.0 and terms[b, MOVABLE] == 1.0:
+            _join(parents, a, b)
+    for k in range(ends.shape[0]):
+        a, b = ends[k, 0], ends[k, 1]
+        if spring_acts(body_i, spring, ends, w, k) and terms[a, MOVABLE] == 1.0:
+            if terms[b, MOVABLE] == 1.0:
+                _join(parents, a, b)
+    for i in range(count):
+        if terms[i, MOVABLE] == 1.0 and body[w, i, SLEEP_TIME] < limit:
+            blocked[_root(parents, i)] = 1
+    for i in range(count):
+        if terms[i, MOVABLE] == 1.0 and blocked[_root(parents, i)] == 0:
+            body_i[w, i, AWAKE] = 0
+            body_i[w, i, ISLAND] = _root(parents, i)
+            body[w, i, VX] = body[w, i, VY] = body[w, i, W] = 0.0

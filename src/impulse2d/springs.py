@@ -1,18 +1,10 @@
-"""Damped springs between anchor points on two bodies (the tutorial's Spring).
+"""``Spring``: a damped spring between anchor points on two bodies, a view of one spring slot.
 
-The force on body 2 is ``F = -(k (L - L0) + c v_along) u`` and body 1 gets ``-F``, where
-``u`` is the unit vector from anchor 1 to anchor 2, ``L`` their distance, ``L0`` the rest
-length and ``v_along`` the relative velocity of the anchors along ``u``. Two fixes to the
-tutorial's version: it multiplied by the *unnormalised* separation (a force growing as
-``L (L0 - L)``, not Hooke's law) and damped the whole relative velocity, which also
-brakes sideways motion a spring cannot resist. A force off a body's centre also
-applies the torque ``r x F``.
-
-Springs are applied as forces in every substep (symplectic Euler), which keeps the
-period at ``2 pi sqrt(m / k)`` and does not pump energy in. That integrator is stable
-only while ``h^2 k w + 2 h c w < 4`` (``w`` the inverse effective mass along the
-spring, ``h`` the substep); ``check_stable`` raises a ValueError beyond it rather than
-let the simulation explode.
+The physics (Hooke's law along the unit direction, damping along it only, applied in every
+substep, and the stability limit) is in ``integrate.py``. Two fixes to the tutorial's
+version: it multiplied by the *unnormalised* separation (a force growing as
+``L (L0 - L)``, not Hooke's law) and damped the whole relative velocity, which also brakes
+sideways motion a spring cannot resist.
 """
 
 from __future__ import annotations
@@ -21,11 +13,26 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _checks
+from . import _checks, edit
+from .shapes import per_world
+from .state import ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, DAMPING, REST_LENGTH, STIFFNESS
 
 if TYPE_CHECKING:
     from .shapes import Body
     from .world import World
+
+# name -> (columns of state.spring, shape of one value, rule)
+_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], str | None]] = {
+    "rest_length": ([REST_LENGTH], (), ">= 0"),
+    "stiffness": ([STIFFNESS], (), ">= 0"),
+    "damping": ([DAMPING], (), ">= 0"),
+    "anchor1": ([ANCHOR_AX, ANCHOR_AY], (2,), None),
+    "anchor2": ([ANCHOR_BX, ANCHOR_BY], (2,), None),
+}
+
+
+def _property(name: str, doc: str) -> property:
+    return property(lambda self: self._get(name), lambda self, v: self._set(name, v), doc=doc)
 
 
 class Spring:
@@ -34,8 +41,16 @@ class Spring:
     ``rest_length`` (m, >= 0; default: the anchors' distance when the spring is added),
     ``stiffness`` k (N/m, >= 0), ``damping`` c (N s/m, >= 0, acting on the relative
     velocity along the spring: a mass m on a spring decays as ``exp(-c t / (2 m))``),
-    anchors in body-local coordinates (m). Both bodies must be in the world first.
+    anchors in body-local coordinates (m). Both bodies must be in the world first. A
+    spring too stiff for the substep (``h^2 k w + 2 h c w >= 4``, ``w`` the inverse
+    effective mass along it) makes ``World.step`` raise instead of exploding.
     """
+
+    rest_length = _property("rest_length", "Rest length L0 (m).")
+    stiffness = _property("stiffness", "Stiffness k (N/m).")
+    damping = _property("damping", "Damping c (N s/m) on the relative velocity along the spring.")
+    anchor1 = _property("anchor1", "Anchor on body1, body-local (m).")
+    anchor2 = _property("anchor2", "Anchor on body2, body-local (m).")
 
     def __init__(
         self,
@@ -60,64 +75,50 @@ class Spring:
         self.body1, self.body2 = body1, body2
         self._world: World | None = None
         self._slot = -1
-        self._values: dict[str, Any] = {
-            "rest_length": None
-            if rest_length is None
-            else _checks.non_negative("rest_length", rest_length),
-            "stiffness": _checks.non_negative("stiffness", stiffness),
-            "damping": _checks.non_negative("damping", damping),
-            "anchor1": _checks.vector2("anchor1", anchor1),
-            "anchor2": _checks.vector2("anchor2", anchor2),
-        }
+        self._values: dict[str, Any] = {"rest_length": None}
+        if rest_length is not None:
+            self.rest_length = rest_length
+        self.stiffness, self.damping = stiffness, damping
+        self.anchor1, self.anchor2 = anchor1, anchor2
 
     @property
     def world(self) -> World | None:
         """The world this spring is in, or None."""
         return self._world
 
+    @property
+    def slot(self) -> int:
+        """Index of this spring's slot in its world's arrays (-1 when not in a world)."""
+        return self._slot
+
     def _get(self, name: str) -> Any:
         if self._world is None:
             value = self._values[name]
             return value.copy() if isinstance(value, np.ndarray) else value
-        return self._world._read_spring(self._slot, name)
+        columns, tail, _ = _COLUMNS[name]
+        values = self._world.state.spring[:, self._slot, columns]
+        return per_world(values if tail else values[:, 0], self._world.batch_size)
 
-    def _set(self, name: str, value: Any, tail: tuple[int, ...], rule: str | None) -> None:
+    def _set(self, name: str, value: Any) -> None:
+        columns, tail, rule = _COLUMNS[name]
         if self._world is None:
-            array = _checks.finite_array(name, value)
+            array = _checks.real_array(name, value)
+            if array.shape != tail and array.shape[1:] != tail:
+                raise ValueError(
+                    f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}"
+                )
             if rule:
                 _checks.batched_rule(name, array, rule)
-            self._values[name] = float(array) if tail == () and array.shape == () else array
+            self._values[name] = float(array) if array.shape == () else array
             return
-        array = _checks.batched(name, value, self._world.batch_size, tail)
+        world = self._world
+        array = _checks.batched(name, value, world.batch_size, tail)
         if rule:
             _checks.batched_rule(name, array, rule)
-        self._world._write_spring(self._slot, name, array)
-
-    rest_length = property(
-        lambda self: self._get("rest_length"),
-        lambda self, v: self._set("rest_length", v, (), ">= 0"),
-        doc="Rest length L0 (m).",
-    )
-    stiffness = property(
-        lambda self: self._get("stiffness"),
-        lambda self, v: self._set("stiffness", v, (), ">= 0"),
-        doc="Stiffness k (N/m).",
-    )
-    damping = property(
-        lambda self: self._get("damping"),
-        lambda self, v: self._set("damping", v, (), ">= 0"),
-        doc="Damping c (N s/m) on the relative velocity along the spring.",
-    )
-    anchor1 = property(
-        lambda self: self._get("anchor1"),
-        lambda self, v: self._set("anchor1", v, (2,), None),
-        doc="Anchor on body1, body-local (m).",
-    )
-    anchor2 = property(
-        lambda self: self._get("anchor2"),
-        lambda self, v: self._set("anchor2", v, (2,), None),
-        doc="Anchor on body2, body-local (m).",
-    )
+        world.state.spring[:, self._slot, columns] = array.reshape(world.batch_size, -1)
+        everywhere = np.arange(world.batch_size)
+        edit.wake(world, everywhere, self.body1.slot)
+        edit.wake(world, everywhere, self.body2.slot)
 
     @property
     def length(self) -> Any:
@@ -128,86 +129,3 @@ class Spring:
 
     def __repr__(self) -> str:
         return f"<Spring {'slot ' + str(self._slot) if self._world else 'not in a world'}>"
-
-
-def geometry(
-    pose: np.ndarray, a: np.ndarray, b: np.ndarray, anchor_a: np.ndarray, anchor_b: np.ndarray
-) -> tuple[np.ndarray, ...]:
-    """World anchor offsets ``rA``, ``rB`` (2, S), separation ``d`` (2, S) and length (S,).
-
-    ``pose`` is the flat ``(3, T)`` pose; ``a``, ``b`` flat body indices; anchors ``(2, S)``.
-    """
-    ca, sa = np.cos(pose[2, a]), np.sin(pose[2, a])
-    cb, sb = np.cos(pose[2, b]), np.sin(pose[2, b])
-    ra = np.stack([ca * anchor_a[0] - sa * anchor_a[1], sa * anchor_a[0] + ca * anchor_a[1]])
-    rb = np.stack([cb * anchor_b[0] - sb * anchor_b[1], sb * anchor_b[0] + cb * anchor_b[1]])
-    d = (pose[:2, b] + rb) - (pose[:2, a] + ra)
-    return ra, rb, d, np.hypot(d[0], d[1])
-
-
-def add_forces(
-    accel: np.ndarray,
-    pose: np.ndarray,
-    vel: np.ndarray,
-    inv_mass: np.ndarray,
-    inv_moment: np.ndarray,
-    a: np.ndarray,
-    b: np.ndarray,
-    params: dict[str, np.ndarray],
-) -> None:
-    """Add every spring's acceleration to ``accel`` (3, T); see the module docstring."""
-    ra, rb, d, length = geometry(pose, a, b, params["anchor_a"], params["anchor_b"])
-    safe = np.where(length > 0.0, length, 1.0)
-    ux, uy = np.where(length > 0.0, d[0] / safe, 0.0), np.where(length > 0.0, d[1] / safe, 0.0)
-    # Relative velocity of the anchors: (vB + wB x rB) - (vA + wA x rA).
-    rvx = (vel[0, b] - vel[2, b] * rb[1]) - (vel[0, a] - vel[2, a] * ra[1])
-    rvy = (vel[1, b] + vel[2, b] * rb[0]) - (vel[1, a] + vel[2, a] * ra[0])
-    tension = params["stiffness"] * (length - params["rest_length"]) + params["damping"] * (
-        rvx * ux + rvy * uy
-    )
-    fx, fy = tension * ux, tension * uy  # force on A; B gets the opposite
-    torque_a = ra[0] * fy - ra[1] * fx
-    torque_b = -(rb[0] * fy - rb[1] * fx)
-    total = inv_mass.size
-    index = np.concatenate([a, a + total, a + 2 * total, b, b + total, b + 2 * total])
-    change = np.concatenate(
-        [
-            fx * inv_mass[a],
-            fy * inv_mass[a],
-            torque_a * inv_moment[a],
-            -fx * inv_mass[b],
-            -fy * inv_mass[b],
-            torque_b * inv_moment[b],
-        ]
-    )
-    np.add.at(accel.reshape(-1), index, change)
-
-
-def check_stable(
-    pose: np.ndarray,
-    inv_mass: np.ndarray,
-    inv_moment: np.ndarray,
-    a: np.ndarray,
-    b: np.ndarray,
-    params: dict[str, np.ndarray],
-    h: float,
-) -> None:
-    """Raise if a spring is too stiff or too damped for the substep ``h``."""
-    ra, rb, d, length = geometry(pose, a, b, params["anchor_a"], params["anchor_b"])
-    safe = np.where(length > 0.0, length, 1.0)
-    ux, uy = d[0] / safe, d[1] / safe
-    w = (
-        inv_mass[a]
-        + inv_mass[b]
-        + inv_moment[a] * (ra[0] * uy - ra[1] * ux) ** 2
-        + inv_moment[b] * (rb[0] * uy - rb[1] * ux) ** 2
-    )
-    measure = h * h * params["stiffness"] * w + 2.0 * h * params["damping"] * w
-    if np.any(measure >= 4.0):
-        worst = int(np.argmax(measure))
-        raise ValueError(
-            f"spring stiffness {params['stiffness'][worst]} N/m with damping "
-            f"{params['damping'][worst]} N s/m is unstable at substep h = {h:.3g} s "
-            f"(needs h^2 k w + 2 h c w < 4, got {measure[worst]:.3g}); lower stiffness or "
-            "damping, use more substeps or a smaller dt"
-        )

@@ -1,125 +1,256 @@
-"""Struct-of-arrays storage for every body and spring slot of every world.
+"""The world's state as plain arrays, and the layout of slots they share.
 
-Layout (the reason the engine can step a thousand worlds in one pass):
+``B`` worlds (a batch; a plain world is a batch of one) share one layout of ``N`` body
+slots, ``S`` spring slots and ``Q`` sensor slots. A slot has the same shape kind and
+motion type in every world (``Layout``); everything else may differ per world and lives
+in ``WorldState``, in arrays whose leading axis is the world:
 
-* ``B`` worlds (the batch) share one set of ``N`` body *slots*. A slot has the same shape
-  kind (circle, box, plane) and motion type (dynamic, kinematic, fixed) in every world;
-  its size, mass, material and state may differ per world.
-* Per-world fields have shape ``(B, N)``; vector state has a leading component axis,
-  ``(3, B, N)`` for ``(x, y, angle)``, ``(vx, vy, angular_velocity)`` and
-  ``(fx, fy, torque)``. Rows first means one component of every body is contiguous, so
-  a gather of three components is one flat ``take`` and the integrator is one
-  elementwise expression over ``3 * B * N`` numbers.
-* The flat body index used by the pipeline is ``world * N + slot``; ``flat(name)`` gives
-  the ``(T,)`` or ``(3, T)`` view with ``T = B * N``.
-* A slot that is switched off in one world (a potted ball, a destroyed block) has
-  ``enabled[w, slot] = False``: arrays keep their shapes, the pipeline skips it.
+==============  =====================  ======================================================
+array           shape, dtype           what (columns below; SI units: m, kg, s, rad)
+==============  =====================  ======================================================
+``body``        (B, N, BODY_F) f8      pose, velocity, forces, mass, size, material, sleep
+``body_i``      (B, N, BODY_I) i8      enabled, awake, island, events, broadphase order
+``spring``      (B, S, SPRING_F) f8    anchors, rest length, stiffness, damping, enabled
+``sensor``      (B, Q, SENSOR_F) f8    region of a sensor, enabled
+``contact``     (B, C, CONTACT_F) f8   the contact points of the last step (warm start)
+``contact_i``   (B, C, CONTACT_I) i8   their two bodies and feature id
+``world_i``     (B, WORLD_I) i8        contact count, steps taken
+``time``        (B,) f8                simulated time (s)
+==============  =====================  ======================================================
 
-Units are SI throughout: metres, kilograms, seconds, radians.
+Columns are module constants (``X``, ``VX``, ``ENABLED``, ...), so a kernel reads
+``body[w, i, VX]`` and the names are documented here once. The few arrays keep a
+compiled call cheap: its cost grows with the number of arrays passed.
+
+A snapshot is a copy of the ``WorldState``; ``replicate`` repeats it along the world
+axis. Contacts are kept sorted by ``(body A, body B, feature)`` in every world, with
+``contact_count`` valid rows; ``C`` grows when a world needs more.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
-# Shape kinds, ordered so that a contact pair (A, B) always has kind(A) <= kind(B).
+# Shape kinds, ordered: a contact pair (A, B) has kind(A) <= kind(B).
 CIRCLE, BOX, PLANE = 0, 1, 2
 FREE = -1  # an unused slot
-
 # Motion types.
 DYNAMIC, KINEMATIC, FIXED = 0, 1, 2
 
+# -- body: float columns ------------------------------------------------------------------
+X, Y, ANGLE = 0, 1, 2  # centre of mass (m) and rotation (rad, counter-clockwise)
+VX, VY, W = 3, 4, 5  # velocity (m/s) and angular velocity (rad/s)
+FX, FY, TORQUE = 6, 7, 8  # applied force (N) and torque (N m), cleared after each step
+MASS, INV_MASS = 9, 10  # kg as given; 1/kg, 0 for fixed and kinematic bodies
+MOMENT, INV_MOMENT = 11, 12  # kg m^2 about the centre; its inverse, 0 if not dynamic
+HALF_W, HALF_H = 13, 14  # half width and height (m); both the radius for a circle
+BOUND = 15  # bounding radius (m): the radius, a box's half diagonal, 0 for planes
+NORMAL_X, NORMAL_Y = 16, 17  # a plane's unit normal, out of its solid side
+RESTITUTION, FRICTION = 18, 19  # coefficients (mixed per contact by the world's rules)
+LINEAR_DRAG, ANGULAR_DRAG = 20, 21  # 1/s: velocity decays as exp(-drag t)
+ROLLING = 22  # rolling resistance (m/s^2): a constant deceleration of the speed
+SLEEP_TIME = 23  # s the body has been slower than the sleep speed
+HEALTH = 24  # drained by impacts (N s); the body is switched off at 0; inf: unbreakable
+BODY_F = 25
 
-@dataclass(frozen=True)
-class Field:
-    """One stored array: its name, dtype, fill value and number of component rows."""
+# -- body: integer columns ----------------------------------------------------------------
+ENABLED = 0  # 1: the body takes part in this world
+AWAKE = 1  # 1: moves this step (dynamic and not sleeping, or kinematic and moving)
+ISLAND = 2  # while asleep: the island's id (the smallest slot in it); else -1
+SENSED = 3  # the last sensor whose region the centre entered (-1: none since cleared)
+FIRST_CONTACT = 4  # the first body this one pushed against since cleared (-1: none)
+SAP_ORDER = 5  # not state: the broadphase's sorted slot order, a cache (any order works)
+BODY_I = 6
 
-    name: str
-    dtype: type
-    default: float | bool | int
-    rows: int = 0  # 0: shape (B, N); 3: shape (3, B, N)
-    doc: str = ""
+# -- springs -------------------------------------------------------------------------------
+ANCHOR_AX, ANCHOR_AY = 0, 1  # on body 1, body-local (m)
+ANCHOR_BX, ANCHOR_BY = 2, 3  # on body 2, body-local (m)
+REST_LENGTH, STIFFNESS, DAMPING = 4, 5, 6  # m, N/m, N s/m (along the spring)
+SPRING_ON = 7  # 1.0: the spring acts in this world
+SPRING_F = 8
 
+# -- sensors: a circle (radius in SENSOR_HW) or a box -----------------------------------------
+SENSOR_X, SENSOR_Y, SENSOR_ANGLE = 0, 1, 2
+SENSOR_HW, SENSOR_HH = 3, 4  # m
+SENSOR_ON = 5  # 1.0: the sensor watches in this world
+SENSOR_F = 6
+# Sensor flags (Layout.sensors[:, 1]).
+SENSE_OUTSIDE = 1  # trigger when the centre is outside the region instead of inside
+SENSE_DISABLES = 2  # switch the body off when triggered
 
-BODY_FIELDS: tuple[Field, ...] = (
-    # state
-    Field("pose", np.float64, 0.0, 3, "x (m), y (m), angle (rad)"),
-    Field("vel", np.float64, 0.0, 3, "vx (m/s), vy (m/s), angular velocity (rad/s)"),
-    Field("force", np.float64, 0.0, 3, "fx (N), fy (N), torque (N m), cleared every step"),
-    Field("enabled", np.bool_, False, 0, "the body exists in this world"),
-    Field("awake", np.bool_, False, 0, "dynamic or kinematic and not sleeping"),
-    Field("sleep_time", np.float64, 0.0, 0, "seconds the body has been slow (s)"),
-    Field("island", np.int64, -1, 0, "island id while asleep (flat index of a member)"),
-    # parameters
-    Field("mass", np.float64, 1.0, 0, "kg, as given"),
-    Field("inv_mass", np.float64, 0.0, 0, "1/kg; 0 for fixed and kinematic bodies"),
-    Field("moment", np.float64, 1.0, 0, "kg m^2 about the centre"),
-    Field("inv_moment", np.float64, 0.0, 0, "1/(kg m^2); 0 for fixed and kinematic"),
-    Field("half_width", np.float64, 0.0, 0, "m; the radius for circles"),
-    Field("half_height", np.float64, 0.0, 0, "m; the radius for circles"),
-    Field("bound", np.float64, 0.0, 0, "bounding radius (m): circle radius, box half-diagonal"),
-    Field("normal_x", np.float64, 0.0, 0, "plane normal, pointing out of the solid side"),
-    Field("normal_y", np.float64, 1.0, 0, ""),
-    Field("restitution", np.float64, 0.0, 0, "coefficient of restitution"),
-    Field("friction", np.float64, 0.0, 0, "Coulomb friction coefficient"),
-    Field("linear_drag", np.float64, 0.0, 0, "1/s: velocity decays as exp(-d t)"),
-    Field("angular_drag", np.float64, 0.0, 0, "1/s: angular velocity decays as exp(-d t)"),
-    Field("rolling_resistance", np.float64, 0.0, 0, "m/s^2: constant deceleration of speed"),
-)
+# -- contacts --------------------------------------------------------------------------------
+NORMAL_IMPULSE, TANGENT_IMPULSE = 0, 1  # accumulated per substep (N s): the warm start
+STEP_IMPULSE = 2  # normal impulse applied over the whole last step (N s)
+APPROACH = 3  # normal relative velocity at the start of the step (m/s, < 0: closing)
+POINT_X, POINT_Y = 4, 5  # the point, midway between the surfaces, at the step start (m)
+CONTACT_NX, CONTACT_NY = 6, 7  # unit normal from A to B
+SEPARATION = 8  # gap along the normal at the step start (m, < 0: overlap)
+CONTACT_F = 9
+BODY_A, BODY_B, FEATURE = 0, 1, 2  # slots, and which vertex/face made the point
+CONTACT_I = 3
 
-SPRING_FIELDS: tuple[Field, ...] = (
-    Field("enabled", np.bool_, False, 0, "the spring exists in this world"),
-    Field("anchor_a", np.float64, 0.0, 2, "anchor on body 1, body-local (m)"),
-    Field("anchor_b", np.float64, 0.0, 2, "anchor on body 2, body-local (m)"),
-    Field("rest_length", np.float64, 0.0, 0, "m"),
-    Field("stiffness", np.float64, 0.0, 0, "N/m"),
-    Field("damping", np.float64, 0.0, 0, "N s/m, on the relative velocity along the spring"),
-)
+# -- per world --------------------------------------------------------------------------------
+CONTACT_COUNT, STEPS = 0, 1
+WORLD_I = 2
 
 
-class Table:
-    """Arrays for ``capacity`` slots in each of ``batch_size`` worlds; grows by doubling."""
+def body_defaults() -> tuple[np.ndarray, np.ndarray]:
+    """One free slot's float and integer row."""
+    row = np.zeros(BODY_F)
+    row[[MASS, MOMENT, NORMAL_Y]] = 1.0
+    row[HEALTH] = np.inf
+    row_i = np.zeros(BODY_I, np.int64)
+    row_i[[ISLAND, SENSED, FIRST_CONTACT]] = -1
+    return row, row_i
 
-    def __init__(self, fields: tuple[Field, ...], batch_size: int, capacity: int) -> None:
-        self.fields = fields
-        self.batch_size = batch_size
-        self.capacity = capacity
-        self.arrays: dict[str, np.ndarray] = {}
-        for field in fields:
-            self.arrays[field.name] = self._new(field, capacity)
 
-    def _new(self, field: Field, capacity: int) -> np.ndarray:
-        shape = (self.batch_size, capacity)
-        if field.rows:
-            shape = (field.rows, *shape)
-        return np.full(shape, field.default, dtype=field.dtype)
+@dataclass
+class WorldState:
+    """Everything that evolves, for every world of a batch (see the module docstring)."""
 
-    def grow(self, capacity: int) -> None:
-        """Reallocate every array for ``capacity`` slots, keeping the existing ones."""
-        for field in self.fields:
-            old = self.arrays[field.name]
-            new = self._new(field, capacity)
-            new[..., : self.capacity] = old
-            self.arrays[field.name] = new
-        self.capacity = capacity
+    body: np.ndarray
+    body_i: np.ndarray
+    spring: np.ndarray
+    sensor: np.ndarray
+    contact: np.ndarray
+    contact_i: np.ndarray
+    world_i: np.ndarray
+    time: np.ndarray
 
-    def __getitem__(self, name: str) -> np.ndarray:
-        return self.arrays[name]
+    @staticmethod
+    def empty(batch: int, bodies: int, springs: int, sensors: int, contacts: int) -> WorldState:
+        row, row_i = body_defaults()
+        body_i = np.broadcast_to(row_i, (batch, bodies, BODY_I)).copy()
+        body_i[:, :, SAP_ORDER] = np.arange(bodies)
+        return WorldState(
+            body=np.broadcast_to(row, (batch, bodies, BODY_F)).copy(),
+            body_i=body_i,
+            spring=np.zeros((batch, springs, SPRING_F)),
+            sensor=np.zeros((batch, sensors, SENSOR_F)),
+            contact=np.zeros((batch, contacts, CONTACT_F)),
+            contact_i=np.zeros((batch, contacts, CONTACT_I), np.int64),
+            world_i=np.zeros((batch, WORLD_I), np.int64),
+            time=np.zeros(batch),
+        )
 
-    def flat(self, name: str) -> np.ndarray:
-        """The ``(T,)`` or ``(rows, T)`` view of a field, ``T = batch_size * capacity``."""
-        array = self.arrays[name]
-        total = self.batch_size * self.capacity
-        return array.reshape(total) if array.ndim == 2 else array.reshape(array.shape[0], total)
+    @property
+    def batch_size(self) -> int:
+        return self.time.size
 
-    def copy_arrays(self) -> dict[str, np.ndarray]:
-        return {name: array.copy() for name, array in self.arrays.items()}
+    @property
+    def contact_capacity(self) -> int:
+        return self.contact.shape[1]
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def copy(self) -> WorldState:
+        return WorldState(**{name: array.copy() for name, array in self.arrays().items()})
+
+    def repeat(self, batch: int) -> WorldState:
+        """This one-world state repeated ``batch`` times along the world axis."""
+        return WorldState(
+            **{name: np.repeat(array, batch, axis=0) for name, array in self.arrays().items()}
+        )
+
+    def grow_bodies(self, capacity: int) -> None:
+        """Room for ``capacity`` body slots; new slots are free."""
+        old = self.body.shape[1]
+        row, row_i = body_defaults()
+        body = np.broadcast_to(row, (self.batch_size, capacity, BODY_F)).copy()
+        body_i = np.broadcast_to(row_i, (self.batch_size, capacity, BODY_I)).copy()
+        body[:, :old], body_i[:, :old] = self.body, self.body_i
+        body_i[:, :, SAP_ORDER] = np.arange(capacity)
+        self.body, self.body_i = body, body_i
+
+    def grow_rows(self, name: str, capacity: int) -> None:
+        """Room for ``capacity`` rows in ``spring``, ``sensor`` or the contact arrays."""
+        names = ("contact", "contact_i") if name == "contact" else (name,)
+        for array_name in names:
+            old = getattr(self, array_name)
+            new = np.zeros((old.shape[0], capacity, old.shape[2]), old.dtype)
+            new[:, : old.shape[1]] = old
+            setattr(self, array_name, new)
+
+    def put(self, source: WorldState, targets: np.ndarray, sources: np.ndarray) -> None:
+        """Copy worlds ``sources`` of ``source`` into worlds ``targets`` of this state."""
+        if source.contact_capacity > self.contact_capacity:
+            self.grow_rows("contact", source.contact_capacity)
+        for name, array in self.arrays().items():
+            saved = getattr(source, name)
+            if name in ("contact", "contact_i"):
+                array[targets] = 0
+                array[targets, : saved.shape[1]] = saved[sources]
+            else:
+                array[targets] = saved[sources]
+
+
+class Layout:
+    """What every world shares: which kind of shape and motion each slot holds, which
+    bodies each spring joins and what each sensor is. Changes only when objects are
+    added or removed, so kernels may rely on it for a whole run.
+
+    * ``shapes`` (N, 2) int64: shape kind (``CIRCLE``, ``BOX``, ``PLANE``, ``FREE``) and
+      motion type (``DYNAMIC``, ``KINEMATIC``, ``FIXED``) of each body slot;
+    * ``springs`` (S, 2) int64: the body slots a spring joins (-1: a free slot);
+    * ``sensors`` (Q, 2) int64: region kind (``CIRCLE`` or ``BOX``, -1: free) and flags
+      (``SENSE_OUTSIDE``, ``SENSE_DISABLES``).
+
+    The three are views of one array, ``rows`` (N + S + Q, 2), so a kernel takes one
+    argument for all of them (``pipeline.split_layout`` cuts it again).
+    """
+
+    def __init__(self, bodies: int, springs: int, sensors: int) -> None:
+        self.rows = np.full((bodies + springs + sensors, 2), -1, np.int64)
+        self.rows[:bodies, 1] = DYNAMIC
+        self._sizes = (bodies, springs, sensors)
+
+    @property
+    def shapes(self) -> np.ndarray:
+        return self.rows[: self._sizes[0]]
+
+    @property
+    def springs(self) -> np.ndarray:
+        n, s, _ = self._sizes
+        return self.rows[n : n + s]
+
+    @property
+    def sensors(self) -> np.ndarray:
+        n, s, _ = self._sizes
+        return self.rows[n + s :]
+
+    @property
+    def kind(self) -> np.ndarray:
+        return self.shapes[:, 0]
+
+    @property
+    def motion(self) -> np.ndarray:
+        return self.shapes[:, 1]
+
+    def copy(self) -> Layout:
+        twin = Layout(*self._sizes)
+        twin.rows[:] = self.rows
+        return twin
+
+    def grow(self, name: str, capacity: int) -> None:
+        """Room for ``capacity`` slots of ``'shapes'``, ``'springs'`` or ``'sensors'``."""
+        parts = {"shapes": self.shapes, "springs": self.springs, "sensors": self.sensors}
+        sizes = {key: part.shape[0] for key, part in parts.items()}
+        sizes[name] = capacity
+        grown_layout = Layout(sizes["shapes"], sizes["springs"], sizes["sensors"])
+        for key, part in parts.items():
+            getattr(grown_layout, key)[: part.shape[0]] = part
+        self.rows, self._sizes = grown_layout.rows, grown_layout._sizes
+
+    def same_as(self, other: Layout) -> bool:
+        return self._sizes == other._sizes and np.array_equal(self.rows, other.rows)
 
 
 def grown(capacity: int, needed: int) -> int:
-    """The next capacity: doubling, so adding n bodies costs O(n) copies in total."""
+    """The next capacity: doubling, so adding n objects costs O(n) copies in total."""
+    capacity = max(capacity, 1)
     while capacity < needed:
         capacity *= 2
     return capacity

@@ -1,33 +1,105 @@
-"""The World: settings, and the step pipeline that advances every world of the batch.
+"""The World: a scene, or a batch of scenes stepped together, over plain arrays.
 
-``World.step`` reads top to bottom as the pipeline it is (Box2D v3's soft step):
+A ``World`` holds three things and the objects that view them:
 
-    broadphase -> narrowphase (a function per shape pair) -> wake touched islands ->
-    body terms (gravity, forces, drag) -> contact constraints (warm start, colours) ->
-    substeps [integrate velocities -> warm start -> solve -> integrate positions -> relax]
-    -> restitution -> store impulses, clear forces, sleep
+* ``settings`` (``Settings``): what it was set up with, validated on every assignment;
+* ``state`` (``WorldState``): every array that evolves, with a leading world axis;
+* ``layout`` (``Layout``): what the worlds share, the kind of each slot.
 
-Every stage works on whole arrays: the flat index of a body is ``world * N + slot``
-(see ``state.py``), and a single world is simply a batch of one.
+``step`` is one compiled call into ``pipeline``; ``run_until_rest`` runs a whole shot
+the same way. A snapshot is a copy of the state.
 """
 
 from __future__ import annotations
 
+import copy
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from . import _checks, solver
-from . import springs as spring_forces
-from ._slots import SlotStore
-from ._snapshot import SnapshotMixin
-from ._stages import Integrator, StepStages, StepTerms
-from .contacts import MIXING_RULES, Cache, Contacts
-from .energy import Energy, energy_of
-from .state import BOX, CIRCLE, FIXED
+from . import _checks, edit, pipeline, readouts, structure
+from .readouts import ContactPoints, Energy
+from .runner import Runner, available_threads
+from .settings import Settings
+from .state import (
+    BODY_F,
+    BODY_I,
+    FIRST_CONTACT,
+    SENSED,
+    STEPS,
+    Layout,
+    WorldState,
+)
+
+# Readable names for ``World.array``: name -> (array, columns).
+ARRAYS: dict[str, tuple[str, Any]] = {
+    "pose": ("body", slice(0, 3)),
+    "vel": ("body", slice(3, 6)),
+    "force": ("body", slice(6, 9)),
+    **{
+        name: ("body", column)
+        for column, name in enumerate(
+            [
+                "x",
+                "y",
+                "angle",
+                "vx",
+                "vy",
+                "angular_velocity",
+                "fx",
+                "fy",
+                "torque",
+                "mass",
+                "inv_mass",
+                "moment",
+                "inv_moment",
+                "half_width",
+                "half_height",
+                "bound",
+                "normal_x",
+                "normal_y",
+                "restitution",
+                "friction",
+                "linear_drag",
+                "angular_drag",
+                "rolling_resistance",
+                "sleep_time",
+                "health",
+            ]
+        )
+    },
+    **{
+        name: ("body_i", column)
+        for column, name in enumerate(["enabled", "awake", "island", "sensed", "first_contact"])
+    },
+}
+assert len([n for n, (a, _) in ARRAYS.items() if a == "body" and isinstance(_, int)]) == BODY_F
+assert len([n for n, (a, _) in ARRAYS.items() if a == "body_i"]) == BODY_I - 1
 
 
-class World(SlotStore, SnapshotMixin, StepStages):
+@dataclass(frozen=True)
+class Snapshot:
+    """The complete state of a World (or batch) at one moment; ``World.restore`` brings it
+    back exactly. ``layout`` records which objects it belongs to."""
+
+    state: WorldState
+    layout: Layout
+
+    @property
+    def batch_size(self) -> int:
+        return self.state.batch_size
+
+
+def _setting(name: str, doc: str) -> property:
+    return property(
+        lambda self: getattr(self.settings, name),
+        lambda self, value: setattr(self.settings, name, value),
+        doc=doc,
+    )
+
+
+class World:
     """A 2D physics world, or a batch of ``batch_size`` worlds stepped together.
 
     Arguments (SI units):
@@ -46,15 +118,32 @@ class World(SlotStore, SnapshotMixin, StepStages):
       contacts from jittering). Box2D uses 1 m/s for metre-sized bodies.
     * ``contact_hertz``, ``contact_damping_ratio``: stiffness of the soft position
       correction of overlaps (capped at a quarter of the substep rate; twice as stiff
-      against immovable bodies). ``contact_push_speed`` (m/s) caps how fast each
-      contact pushes overlapping bodies apart, so a heavily overlapping start does not
-      explode (a body pushed by several contacts at once can move faster).
+      against immovable bodies). ``contact_push_speed`` (m/s) caps how fast each contact
+      pushes overlapping bodies apart, so a heavily overlapping start does not explode.
     * ``speculative_distance`` (m): contacts are made this much before shapes touch, on
       top of how far the pair can close in the step (at most a quarter of a body's size,
       so small bodies get proportionally smaller distances).
     * ``sleeping``: let islands of slow bodies sleep (``time_to_sleep`` s below
       ``sleep_speed`` m/s). Sleeping bodies cost nothing until something touches them.
+    * ``damage_speed`` (m/s): impacts closing slower than this do not drain a body's
+      ``health`` (the steady push of a resting stack does no damage).
+    * ``threads``: threads a batch is stepped on (default: every core numba sees); a
+      single world always uses one. Results do not depend on it.
     """
+
+    gravity = property(lambda self: self.settings.gravity, doc="Gravity (m/s^2), shape (2,).")
+    substeps = _setting("substeps", "Solver substeps per step.")
+    restitution_threshold = _setting("restitution_threshold", "Slower impacts do not bounce (m/s).")
+    contact_hertz = _setting("contact_hertz", "Stiffness of the overlap correction (Hz).")
+    contact_damping_ratio = _setting("contact_damping_ratio", "Its damping ratio.")
+    contact_push_speed = _setting("contact_push_speed", "Fastest push out of an overlap (m/s).")
+    speculative_distance = _setting("speculative_distance", "Contacts this far early (m).")
+    sleeping = _setting("sleeping", "Whether slow islands fall asleep.")
+    time_to_sleep = _setting("time_to_sleep", "Seconds slow before sleeping.")
+    sleep_speed = _setting("sleep_speed", "Slower than this (m/s) counts as resting.")
+    damage_speed = _setting("damage_speed", "Slower impacts do no damage (m/s).")
+    restitution_mixing = property(lambda self: self.settings.restitution_mixing)
+    friction_mixing = property(lambda self: self.settings.friction_mixing)
 
     def __init__(
         self,
@@ -72,180 +161,199 @@ class World(SlotStore, SnapshotMixin, StepStages):
         sleeping: bool = True,
         time_to_sleep: float = 0.5,
         sleep_speed: float = 0.05,
+        damage_speed: float = 1.0,
+        threads: int | None = None,
     ) -> None:
-        self._cache = Cache.empty()
-        self._version = 0  # bumped by every change to who moves or to body parameters
-        self._terms: StepTerms | None = None
-        self._woken: list[np.ndarray] = []  # bodies whose step terms need a refresh
-        self._forces_pending = False
-        self._speculative = _checks.non_negative("speculative_distance", speculative_distance)
-        self._init_slots(_checks.positive_int("batch_size", batch_size))
-        self.gravity = gravity
-        self.substeps = substeps
-        self._rules = (
-            _checks.choice("restitution_mixing", restitution_mixing, MIXING_RULES),
-            _checks.choice("friction_mixing", friction_mixing, MIXING_RULES),
+        batch = _checks.positive_int("batch_size", batch_size)
+        self.settings = Settings(
+            gravity=gravity,
+            substeps=substeps,
+            restitution_mixing=restitution_mixing,
+            friction_mixing=friction_mixing,
+            restitution_threshold=restitution_threshold,
+            contact_hertz=contact_hertz,
+            contact_damping_ratio=contact_damping_ratio,
+            contact_push_speed=contact_push_speed,
+            speculative_distance=speculative_distance,
+            sleeping=sleeping,
+            time_to_sleep=time_to_sleep,
+            sleep_speed=sleep_speed,
+            damage_speed=damage_speed,
         )
-        self.restitution_threshold = _checks.non_negative(
-            "restitution_threshold", restitution_threshold
-        )
-        self.contact_hertz = _checks.positive("contact_hertz", contact_hertz)
-        self.contact_damping_ratio = _checks.non_negative(
-            "contact_damping_ratio", contact_damping_ratio
-        )
-        self.contact_push_speed = _checks.positive("contact_push_speed", contact_push_speed)
-        self.speculative_distance = speculative_distance
-        if not isinstance(sleeping, (bool, np.bool_)):
-            raise ValueError(f"sleeping must be a bool, got {sleeping!r}")
-        self.sleeping = bool(sleeping)
-        self.time_to_sleep = _checks.positive("time_to_sleep", time_to_sleep)
-        self.sleep_speed = _checks.non_negative("sleep_speed", sleep_speed)
-        self._time = np.zeros(self._batch)
-        self.steps = 0
-        self.last_contacts: Contacts | None = None
+        self.state = WorldState.empty(batch, 8, 4, 2, 16)
+        self.layout = Layout(8, 4, 2)
+        self.objects: dict[str, list] = {
+            "bodies": [None] * 8,
+            "springs": [None] * 4,
+            "sensors": [None] * 2,
+        }
+        self._runner = Runner(1)
+        self.threads = threads
 
-    # -- settings --------------------------------------------------------------------------
-    @property
-    def gravity(self) -> np.ndarray:
-        """Gravitational acceleration (m/s^2), shape (2,). Setting it wakes every body."""
-        return self._gravity.copy()
-
+    # -- settings -----------------------------------------------------------------------------
     @gravity.setter
     def gravity(self, value: Any) -> None:
-        self._gravity = _checks.vector2("gravity", value)
-        b = self._bodies
-        b["awake"][...] |= b["enabled"] & (self._dynamic_flat.reshape(b["awake"].shape))
-        b["sleep_time"][...] = 0.0
-        self._touch()
+        """Setting gravity wakes every body (a resting body must feel the change)."""
+        self.settings.gravity = value
+        everywhere = np.arange(self.batch_size)
+        for slot, obj in enumerate(self.objects["bodies"]):
+            if obj is not None:
+                edit.wake(self, everywhere, slot)
 
     @property
-    def speculative_distance(self) -> float:
-        """How far apart (m) shapes get a contact before they touch, on top of how far they
-        can close in the step; a body uses at most a quarter of its size."""
-        return self._speculative
+    def threads(self) -> int:
+        """Threads a batch is stepped on (settable; ``None`` sets every core)."""
+        return self._runner.threads
 
-    @speculative_distance.setter
-    def speculative_distance(self, value: float) -> None:
-        self._speculative = _checks.non_negative("speculative_distance", value)
-        self._half_spec = self._speculative_half(np.arange(self._views["bound"].size))
-
-    @property
-    def substeps(self) -> int:
-        """Solver substeps per step."""
-        return self._substeps
-
-    @substeps.setter
-    def substeps(self, value: int) -> None:
-        self._substeps = _checks.positive_int("substeps", value)
+    @threads.setter
+    def threads(self, value: int | None) -> None:
+        most = available_threads()
+        count = most if value is None else _checks.positive_int("threads", value)
+        if count > most:
+            raise ValueError(f"threads must be in [1, {most}] (the cores numba sees), got {count}")
+        self._runner.threads = count
 
     @property
-    def restitution_mixing(self) -> str:
-        return self._rules[0]
-
-    @property
-    def friction_mixing(self) -> str:
-        return self._rules[1]
+    def batch_size(self) -> int:
+        """Number of worlds stepped together (1 for a plain world)."""
+        return self.state.batch_size
 
     @property
     def time(self) -> Any:
         """Simulated time (s): a float, or one per world."""
-        return float(self._time[0]) if self._batch == 1 else self._time.copy()
+        return float(self.state.time[0]) if self.batch_size == 1 else self.state.time.copy()
 
-    # -- the pipeline ----------------------------------------------------------------------
+    @property
+    def steps(self) -> Any:
+        """Steps taken: an int, or one per world."""
+        steps = self.state.world_i[:, STEPS]
+        return int(steps[0]) if self.batch_size == 1 else steps.copy()
+
+    # -- objects ------------------------------------------------------------------------------
+    @property
+    def bodies(self) -> list:
+        """Every Circle, Box and Plane in the world, in slot order."""
+        return [obj for obj in self.objects["bodies"] if obj is not None]
+
+    @property
+    def springs(self) -> list:
+        """Every Spring in the world, in slot order."""
+        return [obj for obj in self.objects["springs"] if obj is not None]
+
+    @property
+    def sensors(self) -> list:
+        """Every Sensor in the world, in slot order."""
+        return [obj for obj in self.objects["sensors"] if obj is not None]
+
+    def add(self, obj: Any) -> Any:
+        """Add a Circle, Box, Plane, Spring or Sensor to every world of the batch; returns
+        ``obj``."""
+        return structure.add(self, obj)
+
+    def remove(self, obj: Any) -> None:
+        """Take an object out of every world. It keeps its values and can be added again."""
+        structure.remove(self, obj)
+
+    # -- stepping -----------------------------------------------------------------------------
     def step(self, dt: float) -> None:
         """Advance every world by ``dt`` seconds (``substeps`` solver substeps inside)."""
-        dt = _checks.positive("dt", dt)
-        if not self._views["awake"].any():  # everything asleep or fixed: nothing can move
-            self._time += dt
-            self.steps += 1
-            self.last_contacts = None
-            return
-        h = dt / self._substeps
-        terms = self._step_terms(h)
-        springs = self._active_springs() if self._springs_used else None
-        speed = self._speed_bound(terms)
-        keys, body_a, body_b = self._candidate_pairs(terms, speed, dt)
-        points = self._narrowphase(keys, body_a, body_b, speed, dt)
-        touching = (body_a[points.pair], body_b[points.pair])
-        if self._wake_touched(*touching, springs):
-            terms = self._step_terms(h)
-        accel_h = self._accelerations(terms, h)
-        if springs is not None:
-            spring_forces.check_stable(
-                self._views["pose"], terms.inv_mass, terms.inv_moment, *springs, h
-            )
-        contacts = None
-        if points.pair.size:
-            contacts = self._contacts(terms, accel_h, points, keys, body_a, body_b, h)
-        self._substeps_loop(terms, accel_h, contacts, springs, h)
-        self._finish(terms, contacts, touching, speed, springs, dt)
+        context = self.settings.step_context(_checks.positive("dt", dt))
+        plan = self._runner.run(self.state, self.layout, context, self._all(), 1, False)
+        if plan[0, pipeline.PLAN_STATUS] or self.batch_size > 1:
+            self._check_springs(plan, context)
 
-    def _substeps_loop(
+    def run_until_rest(
         self,
-        terms: StepTerms,
-        accel_h: np.ndarray,
-        contacts: Contacts | None,
-        springs: tuple | None,
-        h: float,
-    ) -> None:
-        """Box2D v3's soft step: per substep integrate velocities, warm start, solve with
-        the soft bias, integrate positions, relax without it; then restitution once."""
-        vel, pose = self._views["vel"], self._views["pose"]
-        push, inv_h = self.contact_push_speed, 1.0 / h
-        integrate = Integrator(
-            vel, pose, terms, accel_h, self._gravity.any() or self._forces_pending
-        )
-        if contacts is not None:
-            blocks = solver.blocks(contacts)
-            separation = contacts.separation
-        for _ in range(self._substeps):
-            integrate.velocities()  # drag, then gravity and forces
-            if springs is not None:
-                self._apply_springs(terms, springs, h)
-            if contacts is not None:
-                solver.warm_start(contacts, vel)
-                solver.solve(contacts, blocks, vel, separation, inv_h, True, push)
-            integrate.positions()
-            if contacts is not None:
-                separation = solver.separation(contacts, pose)
-                solver.solve(contacts, blocks, vel, separation, inv_h, False, push)
-        if contacts is not None:
-            solver.restitution(contacts, vel, self.restitution_threshold, h)
+        dt: float,
+        max_steps: int,
+        worlds: Any = None,
+        *,
+        every: int | None = None,
+        callback: Any = None,
+    ) -> np.ndarray:
+        """Step each of ``worlds`` (indices; default all) by ``dt`` until it is at rest or
+        has taken ``max_steps`` steps, in compiled code; returns the steps each took, in
+        the order given. A world at rest costs nothing while the others go on, and worlds
+        not named do not move. With ``callback``, the run pauses every ``every`` steps to
+        call ``callback(steps_so_far)`` (frames of a shot), then goes on."""
+        context = self.settings.step_context(_checks.positive("dt", dt))
+        cap = _checks.positive_int("max_steps", max_steps)
+        chosen = self._worlds(worlds)
+        if callback is None:
+            plan = self._runner.run(self.state, self.layout, context, chosen, cap, True)
+            self._check_springs(plan, context)
+            return plan[:, pipeline.PLAN_STEPS].copy()
+        if not callable(callback):
+            raise ValueError(f"callback must be callable, got {callback!r}")
+        every = _checks.positive_int("every", 1 if every is None else every)
+        taken = np.zeros(chosen.size, np.int64)
+        while True:
+            going = np.flatnonzero(taken < cap)
+            chunk = min(every, cap - int(taken[going].min())) if going.size else 0
+            plan = self._runner.run(self.state, self.layout, context, chosen[going], chunk, True)
+            self._check_springs(plan, context)
+            moved = plan[:, pipeline.PLAN_STEPS]
+            taken[going] += moved
+            if chunk == 0 or not (moved == chunk).any():
+                return taken
+            callback(taken.copy())
 
-    # -- readouts and queries -----------------------------------------------------------------
+    def _check_springs(self, plan: np.ndarray, context: np.ndarray) -> None:
+        bad = np.flatnonzero(plan[:, pipeline.PLAN_STATUS] == pipeline.UNSTABLE_SPRING)
+        if bad.size == 0:
+            return
+        world, slot = int(plan[bad[0], pipeline.PLAN_WORLD]), int(plan[bad[0], pipeline.BAD_SPRING])
+        spring = self.objects["springs"][slot]
+        stiffness = np.atleast_1d(spring.stiffness)[world]
+        damping = np.atleast_1d(spring.damping)[world]
+        where = f" in world {world}" if self.batch_size > 1 else ""
+        raise ValueError(
+            f"spring stiffness {stiffness} N/m with damping {damping} N s/m is unstable at "
+            f"substep h = {context[1]:.3g} s{where} (needs h^2 k w + 2 h c w < 4, w the inverse "
+            "effective mass along the spring); lower stiffness or damping, use more substeps "
+            "or a smaller dt. That world did not step."
+        )
+
+    def _all(self) -> np.ndarray:
+        return self._runner.every_world(self.batch_size)
+
+    def _worlds(self, worlds: Any) -> np.ndarray:
+        """World indices from ``None`` (all), an int or a sequence of ints."""
+        if worlds is None:
+            return self._all()
+        rows = np.asarray(worlds).reshape(-1)
+        if rows.size == 0:
+            return rows.astype(np.int64)
+        if rows.dtype.kind not in "iu" or np.any(rows < 0) or np.any(rows >= self.batch_size):
+            raise ValueError(f"worlds must be indices in [0, {self.batch_size}), got {worlds!r}")
+        return rows.astype(np.int64)
+
+    # -- readouts and queries -------------------------------------------------------------------
     def energy(self) -> Energy:
         """Kinetic (linear, rotational), gravitational potential and spring energy (J).
 
         Potential energy is ``-m g . position``, zero at the origin. Fixed and kinematic
-        bodies are excluded (they are driven, not part of the system).
-        """
-        return energy_of(
-            self._views, self._dynamic_flat, self._gravity, self._active_springs(), self._batch
-        )
+        bodies are excluded (they are driven, not part of the system)."""
+        return readouts.energy(self.state, self.layout, self.settings.gravity)
 
     def at_rest(self) -> Any:
         """True for a world in which nothing moves (every body asleep or fixed): a bool,
         or one per world."""
-        b = self._bodies
-        rest = ~(b["awake"] & b["enabled"]).any(axis=1)
-        return bool(rest[0]) if self._batch == 1 else rest
+        state, shapes = self.state, self.layout.shapes
+        rest = np.array([pipeline.at_rest(state.body_i, shapes, w) for w in range(self.batch_size)])
+        return bool(rest[0]) if self.batch_size == 1 else rest
 
     def stop(self, worlds: Any = None) -> None:
         """Bring every body of the given worlds (default: all) to rest at once: velocities
         zero, dynamic bodies asleep. A game that caps how long a move may run uses this to
         end it the same way whether a world is stepped alone or in a batch."""
-        b = self._bodies
-        rows = np.arange(self._batch) if worlds is None else np.asarray(worlds).reshape(-1)
-        if rows.dtype.kind not in "iu" or np.any(rows < 0) or np.any(rows >= self._batch):
-            raise ValueError(f"worlds must be indices in [0, {self._batch}), got {worlds!r}")
-        n = b.capacity
-        flat = (rows[:, None] * n + np.flatnonzero(self._motion != FIXED)[None, :]).ravel()
-        b.flat("vel")[:, flat] = 0.0
-        dynamic = flat[self._dynamic_flat[flat]]
-        b.flat("awake")[flat] = False
-        b.flat("sleep_time")[dynamic] = 0.0
-        b.flat("island")[dynamic] = dynamic  # each its own island: any touch wakes it alone
-        self._touch()
+        edit.stop(self, self._worlds(worlds))
+
+    def reset_events(self, worlds: Any = None) -> None:
+        """Forget what the bodies of the given worlds (default: all) sensed and touched
+        first (``body.sensed``, ``body.first_contact``)."""
+        rows = self._worlds(worlds)
+        self.state.body_i[rows[:, None], :, [SENSED, FIRST_CONTACT]] = -1
 
     def impulses(self, approach_speed: float = 0.0) -> Any:
         """The contact impulse each body received in the last step (N s): the sum over its
@@ -255,42 +363,38 @@ class World(SlotStore, SnapshotMixin, StepStages):
         ``approach_speed`` (m/s) keeps only the points whose bodies were closing faster
         than that along the normal at the start of the step: impacts, not the steady
         push of a resting stack (whose points close at no more than about ``g dt``)."""
-        approach_speed = _checks.non_negative("approach_speed", approach_speed)
-        total = np.zeros(self._batch * self._bodies.capacity)
-        contacts = self.last_contacts
-        if contacts is not None and contacts.size:
-            impulse = contacts.step_impulse
-            if approach_speed > 0.0:
-                impulse = np.where(contacts.relative_velocity < -approach_speed, impulse, 0.0)
-            np.add.at(total, contacts.body_a, impulse)
-            np.add.at(total, contacts.body_b, impulse)
-        total = total.reshape(self._batch, -1)
-        return total[0] if self._batch == 1 else total
+        speed = _checks.non_negative("approach_speed", approach_speed)
+        total = readouts.impulses(self.state, speed)
+        return total[0] if self.batch_size == 1 else total
 
     def touches(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The contact points that pushed in the last step: ``(world, slot_a, slot_b,
         impulse)`` arrays, one entry per point, with the normal impulse it applied over
-        the step (N s). Speculative points that never touched are left out. Games use it
-        for rules such as "the cue ball must hit a ball"."""
-        contacts = self.last_contacts
-        if contacts is None or contacts.size == 0:
-            empty = np.zeros(0, np.int64)
-            return empty, empty, empty, np.zeros(0)
-        pushed = np.flatnonzero(contacts.step_impulse > 0.0)
-        n = self._bodies.capacity
-        a, b = contacts.body_a[pushed], contacts.body_b[pushed]
-        return a // n, a % n, b % n, contacts.step_impulse[pushed]
+        the step (N s). Speculative points that never touched are left out."""
+        return readouts.touches(self.state)
+
+    def contacts(self, world: int = 0) -> ContactPoints:
+        """The contact points of world ``world`` at its last step (``ContactPoints``)."""
+        return readouts.contact_points(self.state, self._world_index(world))
 
     def array(self, name: str) -> np.ndarray:
-        """A read-only view of one body field in every world, for vectorised readouts:
-        ``'pose'`` and ``'vel'`` have shape ``(3, batch, slots)`` (x, y, angle and their
-        rates), the others ``(batch, slots)``; ``state.BODY_FIELDS`` lists them with their
-        units. Index slots by ``body.slot``. Writes go through the objects, which keep the
-        derived state (masses, broadphase, sleep) consistent."""
-        if name not in self._bodies.arrays:
-            names = ", ".join(self._bodies.arrays)
-            raise ValueError(f"name must be one of {names}, got {name!r}")
-        view = self._bodies[name].view()
+        """A read-only array of one body field in every world, for vectorised readouts:
+        ``'pose'``, ``'vel'`` and ``'force'`` have shape ``(3, batch, slots)`` (x, y,
+        angle and their rates), the others ``(batch, slots)`` (``ARRAYS`` lists them;
+        ``state.py`` gives their units). Index slots by ``body.slot``. Writes go through
+        the objects, which keep derived values consistent and wake what they touch."""
+        if name not in ARRAYS:
+            raise ValueError(f"name must be one of {', '.join(ARRAYS)}, got {name!r}")
+        array, columns = ARRAYS[name]
+        if array == "body_i":
+            view = (
+                self.state.body_i[:, :, columns] == 1
+                if name in ("enabled", "awake")
+                else (self.state.body_i[:, :, columns].copy())
+            )
+        else:
+            view = self.state.body[:, :, columns]
+            view = view.transpose(2, 0, 1) if view.ndim == 3 else view.view()
         view.flags.writeable = False
         return view
 
@@ -298,18 +402,74 @@ class World(SlotStore, SnapshotMixin, StepStages):
         """The circles and boxes that contain a world point (in world ``world`` of the
         batch), in slot order. Planes are left out: they are the scenery."""
         p = _checks.vector2("point", point)
-        if not 0 <= world < self._batch:
-            raise ValueError(f"world must be in [0, {self._batch}), got {world}")
-        b = self._bodies
-        pose = b["pose"][:, world]
-        dx, dy = p[0] - pose[0], p[1] - pose[1]
-        c, s = np.cos(pose[2]), np.sin(pose[2])
-        lx, ly = c * dx + s * dy, -s * dx + c * dy
-        hw, hh = b["half_width"][world], b["half_height"][world]
-        inside = np.where(
-            self._kind == CIRCLE,
-            lx * lx + ly * ly <= hw * hw,
-            (np.abs(lx) <= hw) & (np.abs(ly) <= hh),
-        )
-        inside &= ((self._kind == CIRCLE) | (self._kind == BOX)) & b["enabled"][world]
-        return [self._body_objects[i] for i in np.flatnonzero(inside)]
+        slots = readouts.containing(self.state, self.layout, p, self._world_index(world))
+        return [self.objects["bodies"][i] for i in slots]
+
+    def _world_index(self, world: Any) -> int:
+        if isinstance(world, bool) or not isinstance(world, (int, np.integer)):
+            raise ValueError(f"world must be an int in [0, {self.batch_size}), got {world!r}")
+        if not 0 <= world < self.batch_size:
+            raise ValueError(f"world must be in [0, {self.batch_size}), got {world}")
+        return int(world)
+
+    # -- snapshots and copies -----------------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        """A copy of the full state; ``restore`` brings it back exactly."""
+        return Snapshot(self.state.copy(), self.layout.copy())
+
+    def restore(self, snapshot: Snapshot, worlds: Any = None) -> None:
+        """Bring back a snapshot: into every world, or only into ``worlds`` (indices).
+
+        The snapshot must come from a world with the same objects in the same slots (this
+        one, a copy from ``replicate``, or one built by the same code). A snapshot of one
+        world can be restored into any number of worlds; a snapshot of a batch of the same
+        size restores world ``i`` from its world ``i``; otherwise it must have one world per
+        named world, taken in order."""
+        if not isinstance(snapshot, Snapshot):
+            raise ValueError(f"snapshot must be a Snapshot, got {type(snapshot).__name__}")
+        if not snapshot.layout.same_as(self.layout):
+            raise ValueError(
+                "snapshot does not match this world's objects: it was taken before "
+                "objects were added or removed, or from a different scene"
+            )
+        targets = self._worlds(worlds)
+        count = snapshot.batch_size
+        if count == 1:
+            sources = np.zeros(targets.size, np.int64)
+        elif count == self.batch_size:
+            sources = targets
+        elif count == targets.size:
+            sources = np.arange(targets.size)
+        else:
+            raise ValueError(
+                f"snapshot has {count} worlds; it can fill any worlds of a batch of {count}, "
+                f"or exactly {count} named worlds, not {targets.size} of {self.batch_size}"
+            )
+        self.state.put(snapshot.state, targets, sources)
+
+    def replicate(self, batch_size: int) -> World:
+        """A new batch of ``batch_size`` copies of this (single) world, state included.
+
+        Its objects are new facades, in the same slots: ``new.bodies[i]`` is the copy of
+        ``self.bodies[i]``; springs and sensors likewise."""
+        batch = _checks.positive_int("batch_size", batch_size)
+        if self.batch_size != 1:
+            raise ValueError(f"replicate needs a single world, this one has {self.batch_size}")
+        clone = copy.copy(self)
+        clone.settings = self.settings.copy()
+        clone.state = self.state.repeat(batch)
+        clone.layout = self.layout.copy()
+        clone._runner = Runner(self._runner.threads)
+        twins: dict[int, Any] = {}
+        clone.objects = {}
+        for kind, objects in self.objects.items():
+            clone.objects[kind] = []
+            for obj in objects:
+                twin = None if obj is None else copy.copy(obj)
+                if twin is not None:
+                    twin._world = clone
+                    twins[id(obj)] = twin
+                clone.objects[kind].append(twin)
+        for spring in clone.springs:
+            spring.body1, spring.body2 = twins[id(spring.body1)], twins[id(spring.body2)]
+        return clone

@@ -1,0 +1,189 @@
+"""Edits of a world's state from outside the step: what the facades' setters do.
+
+Each edit writes the arrays, keeps the columns derived from what it wrote consistent
+(inverse mass, moment, bounding radius), and wakes what it touches, only in the worlds
+whose value changed: a game that rewrites one world of a batch (a respotted cue ball)
+must leave the others exactly as they were, or a batch would stop stepping like the
+worlds alone. Waking runs the same compiled code the step uses.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ._jit import kernel
+from .events import disable, enable, forget_contacts
+from .sleep import wake_island, wake_neighbours
+from .state import (
+    AWAKE,
+    BOUND,
+    BOX,
+    CIRCLE,
+    DYNAMIC,
+    ENABLED,
+    FIXED,
+    FX,
+    FY,
+    HALF_H,
+    HALF_W,
+    INV_MASS,
+    INV_MOMENT,
+    ISLAND,
+    KINEMATIC,
+    MASS,
+    MOMENT,
+    SLEEP_TIME,
+    TORQUE,
+    VX,
+    VY,
+    W,
+    X,
+    Y,
+)
+
+if TYPE_CHECKING:
+    from .world import World
+
+VELOCITY_COLUMNS = (VX, VY, W)
+
+
+@kernel
+def _wake(body, body_i, layout, contact_i, world_i, worlds, slot, neighbours) -> None:
+    shapes = layout[: body.shape[1]]
+    for w in worlds:
+        wake_island(body, body_i, shapes, w, slot)
+        if neighbours:
+            wake_neighbours(body, body_i, shapes, contact_i, world_i, w, slot)
+
+
+@kernel
+def _switch(body, body_i, layout, contact, contact_i, world_i, worlds, on, slot) -> None:
+    shapes = layout[: body.shape[1]]
+    for k in range(worlds.size):
+        if on[k]:
+            enable(body, body_i, shapes, contact, contact_i, world_i, worlds[k], slot)
+        else:
+            disable(body, body_i, shapes, contact, contact_i, world_i, worlds[k], slot)
+
+
+@kernel
+def _forget(contact, contact_i, world_i, slot) -> None:
+    for w in range(world_i.shape[0]):
+        forget_contacts(contact, contact_i, world_i, w, slot)
+
+
+def wake(world: World, worlds: np.ndarray, slot: int, neighbours: bool = False) -> None:
+    """Wake a body's island in ``worlds`` (and, with ``neighbours``, what touched it)."""
+    if worlds.size:
+        s = world.state
+        _wake(
+            s.body,
+            s.body_i,
+            world.layout.rows,
+            s.contact_i,
+            s.world_i,
+            worlds.astype(np.int64),
+            slot,
+            neighbours,
+        )
+
+
+def forget(world: World, slot: int) -> None:
+    """Drop the cached contacts of a slot in every world (it is new, or leaving)."""
+    s = world.state
+    _forget(s.contact, s.contact_i, s.world_i, slot)
+
+
+def write_body(
+    world: World, slot: int, columns: list[int], values: np.ndarray, moves: bool
+) -> None:
+    """Write ``values`` (B, k) into a body's ``columns`` and wake it where they changed
+    (``moves``: it was teleported or resized, so what rested on it wakes too)."""
+    body, motion = world.state.body, int(world.layout.motion[slot])
+    if motion == FIXED and set(columns) <= set(VELOCITY_COLUMNS) and np.any(values != 0.0):
+        name = "angular_velocity" if columns == [W] else "velocity"
+        raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
+    changed = np.flatnonzero((body[:, slot, columns] != values).any(axis=1))
+    body[:, slot, columns] = values
+    if changed.size == 0:
+        return
+    if motion == KINEMATIC and set(columns) <= set(VELOCITY_COLUMNS):
+        # A kinematic body is awake while it moves.
+        moving = (body[changed, slot, VX : W + 1] != 0.0).any(axis=1)
+        world.state.body_i[changed, slot, AWAKE] = moving & (
+            world.state.body_i[changed, slot, ENABLED] == 1
+        )
+    wake(world, changed, slot, neighbours=moves)
+
+
+def rebuild_mass(world: World, slot: int) -> None:
+    """Moment of inertia, inverse mass and moment, and bounding radius of a body, from its
+    mass and size, in every world: a disc ``m r^2 / 2``, a box ``m (w^2 + h^2) / 12``."""
+    body = world.state.body[:, slot]
+    kind, motion = int(world.layout.kind[slot]), int(world.layout.motion[slot])
+    if kind == CIRCLE:
+        body[:, HALF_H] = body[:, HALF_W]
+    mass, hw, hh = body[:, MASS], body[:, HALF_W], body[:, HALF_H]
+    if kind == CIRCLE:
+        moment, bound = 0.5 * mass * hw * hw, hw
+    elif kind == BOX:
+        # (w^2 + h^2) / 12 with w = 2 hw: (4 hw^2 + 4 hh^2) / 12 = (hw^2 + hh^2) / 3
+        moment, bound = mass * (hw * hw + hh * hh) / 3.0, np.sqrt(hw * hw + hh * hh)
+    else:
+        moment, bound = np.zeros_like(mass), np.zeros_like(mass)
+    dynamic = motion == DYNAMIC and kind in (CIRCLE, BOX)
+    body[:, MOMENT], body[:, BOUND] = moment, bound
+    body[:, INV_MASS] = 1.0 / mass if dynamic else 0.0
+    body[:, INV_MOMENT] = 1.0 / moment if dynamic else 0.0
+
+
+def set_enabled(world: World, slot: int, flags: np.ndarray) -> None:
+    """Switch a body on or off per world (``flags`` (B,) bool), only where it changes."""
+    s = world.state
+    changed = np.flatnonzero((s.body_i[:, slot, ENABLED] == 1) != flags)
+    if changed.size:
+        _switch(
+            s.body,
+            s.body_i,
+            world.layout.rows,
+            s.contact,
+            s.contact_i,
+            s.world_i,
+            changed.astype(np.int64),
+            flags[changed],
+            slot,
+        )
+
+
+def apply(world: World, slot: int, force: bool, push: np.ndarray, point: np.ndarray | None) -> None:
+    """A force over the next step, or an impulse now (``push`` (B, 2)), at ``point`` (B, 2)
+    (default: the centre), with the torque ``r x push``; wakes the body where it is pushed
+    (a batch of shots where some worlds sit out must leave those as they are)."""
+    body = world.state.body[:, slot]
+    centre = body[:, X : Y + 1]
+    r = np.zeros_like(push) if point is None else point - centre
+    torque = r[:, 0] * push[:, 1] - r[:, 1] * push[:, 0]
+    if force:
+        body[:, FX] += push[:, 0]
+        body[:, FY] += push[:, 1]
+        body[:, TORQUE] += torque
+    else:
+        body[:, VX] += push[:, 0] * body[:, INV_MASS]
+        body[:, VY] += push[:, 1] * body[:, INV_MASS]
+        body[:, W] += torque * body[:, INV_MOMENT]
+    wake(world, np.flatnonzero(np.any(push != 0.0, axis=1)), slot)
+
+
+def stop(world: World, worlds: np.ndarray) -> None:
+    """Everything in ``worlds`` at rest at once: velocities zero, every body asleep, each
+    dynamic body its own island (so any touch wakes it alone)."""
+    s, layout = world.state, world.layout
+    movers = np.flatnonzero(layout.motion != FIXED)
+    dynamic = np.flatnonzero((layout.motion == DYNAMIC) & (layout.kind >= 0))
+    rows = worlds[:, None]
+    s.body[rows, movers, VX : W + 1] = 0.0
+    s.body_i[rows, movers, AWAKE] = 0
+    s.body[rows, dynamic, SLEEP_TIME] = 0.0
+    s.body_i[rows, dynamic, ISLAND] = dynamic[None, :]

@@ -1,0 +1,247 @@
+"""Integration: the step terms of each body, velocities, positions and springs.
+
+Semi-implicit (symplectic) Euler per substep ``h``: velocities first,
+``v <- v exp(-drag h) + h (g + F / m)``, then positions with the new velocity,
+``x <- x + h v``. Drag is applied as the exact factor ``exp(-drag h)``, so a body's speed
+decays as ``exp(-drag t)`` over any number of steps (an explicit ``v -= drag v h``
+drifts from it). Rolling resistance takes a fixed amount ``a h`` off the speed each
+substep, never turning the body around: ``v <- v max(0, 1 - a h / |v|)``.
+
+Springs (the tutorial's Spring, corrected): the force on body 2 is
+``F = -(k (L - L0) + c v_along) u`` and body 1 gets ``-F``, where ``u`` is the unit vector
+from anchor 1 to anchor 2, ``L`` their distance, ``L0`` the rest length and ``v_along``
+the relative velocity of the anchors along ``u``; off-centre anchors also get the torque
+``r x F``. Applied in every substep, which keeps the period at ``2 pi sqrt(m / k)``. That
+integrator is stable only while ``h^2 k w + 2 h c w < 4`` (``w`` the inverse effective
+mass along the spring): ``spring_stability`` measures it so the world can refuse a
+spring that would explode.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import settings as ctx_
+from ._jit import kernel
+from .state import (
+    ANCHOR_AX,
+    ANCHOR_AY,
+    ANCHOR_BX,
+    ANCHOR_BY,
+    ANGLE,
+    ANGULAR_DRAG,
+    AWAKE,
+    BOUND,
+    BOX,
+    CIRCLE,
+    DAMPING,
+    DYNAMIC,
+    ENABLED,
+    FX,
+    FY,
+    HALF_H,
+    HALF_W,
+    INV_MASS,
+    INV_MOMENT,
+    LINEAR_DRAG,
+    PLANE,
+    REST_LENGTH,
+    ROLLING,
+    SPRING_ON,
+    STIFFNESS,
+    TORQUE,
+    VX,
+    VY,
+    W,
+    X,
+    Y,
+)
+from .workspace import (
+    ACCEL_W,
+    ACCEL_X,
+    ACCEL_Y,
+    ANGLE0,
+    BOTTOM,
+    COS,
+    DAMP_ANGULAR,
+    DAMP_LINEAR,
+    EXTENT_X,
+    EXTENT_Y,
+    HALF_SPEC,
+    LEFT,
+    MOVABLE,
+    MOVING,
+    RIGHT,
+    ROLL_H,
+    SIN,
+    SPEED,
+    STEP_INV_MASS,
+    STEP_INV_MOMENT,
+    TOP,
+    X0,
+    Y0,
+)
+
+
+@kernel
+def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
+    """Fill the step terms of every body of world ``w`` (see ``workspace``). (The loop
+    body is written out here rather than called: a compiled helper that branches costs
+    numba's reference counting of every array it is handed, per call.)"""
+    h, spec = ctx[ctx_.H], ctx[ctx_.SPECULATIVE]
+    for i in range(shapes.shape[0]):
+        kind, motion = shapes[i, 0], shapes[i, 1]
+        enabled = body_i[w, i, ENABLED] == 1
+        moving = enabled and body_i[w, i, AWAKE] == 1 and kind != PLANE
+        movable = moving and motion == DYNAMIC
+        terms[i, MOVING] = 1.0 if moving else 0.0
+        terms[i, MOVABLE] = 1.0 if movable else 0.0
+        terms[i, STEP_INV_MASS] = body[w, i, INV_MASS] if movable else 0.0
+        terms[i, STEP_INV_MOMENT] = body[w, i, INV_MOMENT] if movable else 0.0
+        linear, angular = body[w, i, LINEAR_DRAG], body[w, i, ANGULAR_DRAG]
+        terms[i, DAMP_LINEAR] = math.exp(-h * linear) if movable and linear != 0.0 else 1.0
+        terms[i, DAMP_ANGULAR] = math.exp(-h * angular) if movable and angular != 0.0 else 1.0
+        inv_mass = body[w, i, INV_MASS]
+        terms[i, ACCEL_X] = (
+            h * (ctx[ctx_.GRAVITY_X] + body[w, i, FX] * inv_mass) if movable else 0.0
+        )
+        terms[i, ACCEL_Y] = (
+            h * (ctx[ctx_.GRAVITY_Y] + body[w, i, FY] * inv_mass) if movable else 0.0
+        )
+        terms[i, ACCEL_W] = h * body[w, i, TORQUE] * body[w, i, INV_MOMENT] if movable else 0.0
+        terms[i, ROLL_H] = h * body[w, i, ROLLING] if movable else 0.0
+        speed = abs(body[w, i, VX]) + abs(body[w, i, VY]) + abs(body[w, i, W]) * body[w, i, BOUND]
+        terms[i, SPEED] = speed if moving else 0.0
+        # Half of the speculative distance: the world's, but at most a quarter of the body's
+        # size, so small bodies (pool balls) are not given contacts whole radii away. Planes
+        # have no size and take the world's.
+        terms[i, HALF_SPEC] = 0.5 * (spec if kind == PLANE else min(spec, 0.25 * body[w, i, BOUND]))
+        x, y, angle = body[w, i, X], body[w, i, Y], body[w, i, ANGLE]
+        if kind == BOX:
+            c, s = math.cos(angle), math.sin(angle)
+            terms[i, COS], terms[i, SIN] = c, s
+            terms[i, EXTENT_X] = abs(c) * body[w, i, HALF_W] + abs(s) * body[w, i, HALF_H]
+            terms[i, EXTENT_Y] = abs(s) * body[w, i, HALF_W] + abs(c) * body[w, i, HALF_H]
+        else:
+            terms[i, COS], terms[i, SIN] = 1.0, 0.0  # a circle's turn changes no contact
+            terms[i, EXTENT_X] = body[w, i, HALF_W]
+            terms[i, EXTENT_Y] = body[w, i, HALF_W]
+        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = x, y, angle
+        # The broadphase box is the shape's box grown by how far the body can travel this step
+        # and by half its speculative distance.
+        grow = terms[i, SPEED] * ctx[ctx_.DT] + terms[i, HALF_SPEC]
+        in_broadphase = enabled and (kind == CIRCLE or kind == BOX)
+        terms[i, LEFT] = x - terms[i, EXTENT_X] - grow if in_broadphase else np.inf
+        terms[i, RIGHT] = x + terms[i, EXTENT_X] + grow
+        terms[i, BOTTOM] = y - terms[i, EXTENT_Y] - grow
+        terms[i, TOP] = y + terms[i, EXTENT_Y] + grow
+
+
+@kernel
+def integrate_velocities(body, w, terms) -> None:
+    """One substep of velocity: drag, gravity and forces, rolling resistance."""
+    for i in range(terms.shape[0]):
+        if terms[i, MOVABLE] == 0.0:
+            continue
+        body[w, i, VX] = body[w, i, VX] * terms[i, DAMP_LINEAR] + terms[i, ACCEL_X]
+        body[w, i, VY] = body[w, i, VY] * terms[i, DAMP_LINEAR] + terms[i, ACCEL_Y]
+        body[w, i, W] = body[w, i, W] * terms[i, DAMP_ANGULAR] + terms[i, ACCEL_W]
+        roll = terms[i, ROLL_H]
+        if roll > 0.0:
+            vx, vy = body[w, i, VX], body[w, i, VY]
+            keep = max(1.0 - roll / max(math.sqrt(vx * vx + vy * vy), 1e-300), 0.0)
+            body[w, i, VX] = vx * keep
+            body[w, i, VY] = vy * keep
+
+
+@kernel
+def integrate_positions(body, w, terms, h) -> None:
+    """One substep of position, with the velocity just solved."""
+    for i in range(terms.shape[0]):
+        if terms[i, MOVING] == 0.0:
+            continue
+        body[w, i, X] += h * body[w, i, VX]
+        body[w, i, Y] += h * body[w, i, VY]
+        body[w, i, ANGLE] += h * body[w, i, W]
+
+
+@kernel
+def spring_geometry(body, spring, ends, w, k):
+    """World anchor offsets ``(rax, ray, rbx, rby)``, unit direction and length of one
+    spring."""
+    a, b = ends[k, 0], ends[k, 1]
+    ca, sa = math.cos(body[w, a, ANGLE]), math.sin(body[w, a, ANGLE])
+    cb, sb = math.cos(body[w, b, ANGLE]), math.sin(body[w, b, ANGLE])
+    rax = ca * spring[w, k, ANCHOR_AX] - sa * spring[w, k, ANCHOR_AY]
+    ray = sa * spring[w, k, ANCHOR_AX] + ca * spring[w, k, ANCHOR_AY]
+    rbx = cb * spring[w, k, ANCHOR_BX] - sb * spring[w, k, ANCHOR_BY]
+    rby = sb * spring[w, k, ANCHOR_BX] + cb * spring[w, k, ANCHOR_BY]
+    dx = (body[w, b, X] + rbx) - (body[w, a, X] + rax)
+    dy = (body[w, b, Y] + rby) - (body[w, a, Y] + ray)
+    length = math.sqrt(dx * dx + dy * dy)
+    ux, uy = (dx / length, dy / length) if length > 0.0 else (0.0, 0.0)
+    return rax, ray, rbx, rby, ux, uy, length
+
+
+@kernel
+def spring_acts(body_i, spring, ends, w, k) -> bool:
+    """Spring slot ``k`` is used, on, and joins two enabled bodies. (Written with ``&``,
+    without branches: a helper that branches costs numba reference counting per call.)"""
+    a, b = ends[k, 0], ends[k, 1]
+    return (
+        (a >= 0)
+        & (spring[w, k, SPRING_ON] == 1.0)
+        & (body_i[w, a, ENABLED] == 1)
+        & (body_i[w, b, ENABLED] == 1)
+    )
+
+
+@kernel
+def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
+    """Every spring's force over one substep, as a change of velocity."""
+    for k in range(ends.shape[0]):
+        if not spring_acts(body_i, spring, ends, w, k):
+            continue
+        a, b = ends[k, 0], ends[k, 1]
+        rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
+        # Relative velocity of the anchors: (vB + wB x rB) - (vA + wA x rA).
+        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
+        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+        stretch = length - spring[w, k, REST_LENGTH]
+        tension = spring[w, k, STIFFNESS] * stretch + spring[w, k, DAMPING] * (rvx * ux + rvy * uy)
+        fx, fy = tension * ux, tension * uy  # on A; B gets the opposite
+        ima, iia = terms[a, STEP_INV_MASS], terms[a, STEP_INV_MOMENT]
+        imb, iib = terms[b, STEP_INV_MASS], terms[b, STEP_INV_MOMENT]
+        body[w, a, VX] += h * fx * ima
+        body[w, a, VY] += h * fy * ima
+        body[w, a, W] += h * (rax * fy - ray * fx) * iia
+        body[w, b, VX] -= h * fx * imb
+        body[w, b, VY] -= h * fy * imb
+        body[w, b, W] -= h * (rbx * fy - rby * fx) * iib
+
+
+@kernel
+def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
+    """The spring least stable at substep ``h`` (-1 if all are stable); writes its
+    measure ``h^2 k w + 2 h c w`` to ``out[0]`` (unstable from 4)."""
+    worst, measure = -1, 0.0
+    for k in range(ends.shape[0]):
+        if not spring_acts(body_i, spring, ends, w, k):
+            continue
+        a, b = ends[k, 0], ends[k, 1]
+        rax, ray, rbx, rby, ux, uy, _ = spring_geometry(body, spring, ends, w, k)
+        ca, cb = rax * uy - ray * ux, rbx * uy - rby * ux
+        inverse = (
+            terms[a, STEP_INV_MASS]
+            + terms[b, STEP_INV_MASS]
+            + terms[a, STEP_INV_MOMENT] * ca * ca
+            + terms[b, STEP_INV_MOMENT] * cb * cb
+        )
+        stiffness, damping = spring[w, k, STIFFNESS], spring[w, k, DAMPING]
+        value = h * h * stiffness * inverse + 2.0 * h * damping * inverse
+        if value >= 4.0 and value > measure:
+            worst, measure = k, value
+    out[0] = measure
+    return worst

@@ -1,0 +1,242 @@
+"""The step of one world as a pipeline of compiled stages, and the runs that drive it.
+
+``step_world`` is Box2D v3's soft step, for one world, top to bottom:
+
+    body terms -> broadphase -> narrowphase -> wake touched islands (and again, until
+    nothing more wakes) -> contact preparation with warm start -> substeps [integrate
+    velocities (gravity, forces, drag, rolling, springs) -> warm start -> solve ->
+    integrate positions -> relax] -> restitution -> store contacts, first contacts and
+    damage -> clear forces -> sleep -> broken bodies -> sensors -> clock
+
+``advance_world`` repeats it for one world, up to a number of steps or until the world
+is at rest (a shot runs in one compiled call); ``advance`` and ``advance_parallel`` do
+that for many worlds, one after the other or spread over threads. Worlds never share
+anything during a step, so a world steps bitwise the same alone, in a batch, and on any
+number of threads.
+
+A step that finds more pairs or points than the scratch rows hold stops *before it
+changes the world* (waking aside, which the retried step would do too) and asks for
+room in its plan row; ``run`` grows the arrays and calls again, and the world carries
+on exactly where it stood.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from . import settings as ctx_
+from ._jit import kernel, parallel_kernel
+from .broadphase import find_pairs
+from .contacts import carry_impulses, count_dormant, prepare, store
+from .events import break_bodies, record_contacts, sense
+from .integrate import (
+    apply_springs,
+    body_terms,
+    integrate_positions,
+    integrate_velocities,
+    spring_stability,
+)
+from .narrowphase import find_points
+from .sleep import update_sleep, wake_touched
+from .solver import restitution, solve, warm_start
+from .state import (
+    AWAKE,
+    CONTACT_COUNT,
+    ENABLED,
+    FX,
+    FY,
+    KINEMATIC,
+    PLANE,
+    STEP_IMPULSE,
+    STEPS,
+    TORQUE,
+    VX,
+    VY,
+    W,
+)
+from .workspace import views
+
+# A run's plan: one row per world it steps.
+PLAN_WORLD, PLAN_STEPS, PLAN_STATUS, NEED_PAIRS, NEED_POINTS, BAD_SPRING = range(6)
+PLAN_COLUMNS = 6
+# Statuses.
+RUNNING, NEEDS_ROOM, UNSTABLE_SPRING = 0, 1, 2
+
+
+@kernel
+def split_layout(layout, bodies, springs):
+    """The body shapes, spring ends and sensor kinds packed in ``Layout.rows``."""
+    return layout[:bodies], layout[bodies : bodies + springs], layout[bodies + springs :]
+
+
+@kernel
+def at_rest(body_i, shapes, w) -> bool:
+    """Nothing in world ``w`` moves: every enabled body asleep, fixed or a still kinematic."""
+    for i in range(shapes.shape[0]):
+        if body_i[w, i, ENABLED] == 1 and body_i[w, i, AWAKE] == 1 and shapes[i, 0] != PLANE:
+            return False
+    return True
+
+
+@kernel
+def rest_step(body, contact, world_i, time, w, ctx) -> None:
+    """A step of a world at rest: only the clock moves (and nothing pushed)."""
+    for j in range(world_i[w, CONTACT_COUNT]):
+        contact[w, j, STEP_IMPULSE] = 0.0
+    body[w, :, FX] = 0.0
+    body[w, :, FY] = 0.0
+    body[w, :, TORQUE] = 0.0
+    time[w] += ctx[ctx_.DT]
+    world_i[w, STEPS] += 1
+
+
+@kernel
+def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row) -> int:
+    """Broadphase and narrowphase, waking the islands a moving body touches and looking
+    again with them awake, until nothing more wakes. Returns the number of points, or -1
+    when the scratch rows are too small (the plan row says how much is needed)."""
+    terms, points, ids = scratch[0], scratch[1], scratch[3]
+    pairs, sorted_pairs, buckets = scratch[5], scratch[6], scratch[7]
+    while True:
+        n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, sorted_pairs, buckets)
+        if n_pairs > pairs.shape[0]:
+            plan_row[NEED_PAIRS] = n_pairs
+            return -1
+        n = find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
+        if n > points.shape[0]:
+            plan_row[NEED_POINTS] = n
+            return -1
+        if not wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
+            return n
+        body_terms(body, body_i, shapes, w, ctx, terms)
+
+
+@kernel
+def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
+    """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
+    soft bias, integrate positions, relax without it; then restitution once."""
+    h = ctx[ctx_.H]
+    for _ in range(int(ctx[ctx_.SUBSTEPS])):
+        integrate_velocities(body, w, terms)
+        if ends.shape[0]:
+            apply_springs(body, body_i, spring, ends, w, terms, h)
+        warm_start(body, w, points, ids, n)
+        solve(body, w, ctx, terms, points, ids, n, True)
+        integrate_positions(body, w, terms, h)
+        solve(body, w, ctx, terms, points, ids, n, False)
+    restitution(body, w, ctx, points, ids, n)
+
+
+@kernel
+def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
+    """Everything after the solver: contacts, events, forces, sleep, the clock."""
+    body, body_i, spring, sensor, contact, contact_i, world_i, time = state
+    terms, points, merged, ids, merged_ids = (
+        scratch[0],
+        scratch[1],
+        scratch[2],
+        scratch[3],
+        scratch[4],
+    )
+    store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids)
+    damaged = record_contacts(body, body_i, w, ctx, points, ids, n)
+    for i in range(shapes.shape[0]):
+        body[w, i, FX] = body[w, i, FY] = body[w, i, TORQUE] = 0.0
+        if shapes[i, 1] == KINEMATIC and body_i[w, i, ENABLED] == 1:  # awake while it moves
+            moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, W] != 0.0
+            body_i[w, i, AWAKE] = 1 if moving else 0
+    if ctx[ctx_.SLEEPING] == 1.0:
+        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, scratch[8], scratch[9])
+    if damaged:
+        break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
+    sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
+    time[w] += ctx[ctx_.DT]
+    world_i[w, STEPS] += 1
+
+
+@kernel
+def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
+    """One step of world ``w``; returns a status (``RUNNING`` when it stepped).
+
+    ``state`` is the tuple ``(body, body_i, spring, sensor, contact, contact_i, world_i,
+    time)`` of ``WorldState``'s arrays."""
+    body, body_i, spring, _, contact, contact_i, world_i, time = state
+    shapes, ends, sensors = split_layout(layout, body.shape[1], spring.shape[1])
+    if at_rest(body_i, shapes, w):
+        rest_step(body, contact, world_i, time, w, ctx)
+        return RUNNING
+    terms, points, ids = scratch[0], scratch[1], scratch[3]
+    body_terms(body, body_i, shapes, w, ctx, terms)
+    n = collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row)
+    if n < 0:
+        return NEEDS_ROOM
+    needed = n + count_dormant(body_i, contact_i, world_i, w, terms)
+    if needed > points.shape[0]:
+        plan_row[NEED_POINTS] = needed
+        return NEEDS_ROOM
+    if ends.shape[0]:
+        measure = np.zeros(1)
+        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
+        if worst >= 0:
+            plan_row[BAD_SPRING] = worst
+            return UNSTABLE_SPRING
+    carry_impulses(contact, contact_i, world_i, w, points, ids, n)
+    prepare(body, w, ctx, terms, points, ids, n)
+    substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
+    finish(state, shapes, ends, sensors, w, ctx, scratch, n)
+    return RUNNING
+
+
+@kernel
+def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, ints, pairs):
+    """Step the world of plan row ``j`` until it has taken ``max_steps`` steps in this run
+    (or, with ``until_rest``, is at rest), or a step cannot go on. ``pairs`` is the
+    capacity of the scratch rows' pair arrays."""
+    body, body_i, contact = state[0], state[1], state[4]
+    w = plan[j, PLAN_WORLD]
+    scratch = views(floats, ints, body.shape[1], contact.shape[1], pairs)
+    shapes = layout[: body.shape[1]]
+    while plan[j, PLAN_STEPS] < max_steps:
+        if until_rest and at_rest(body_i, shapes, w):
+            return
+        status = step_world(state, layout, ctx, w, scratch, plan[j])
+        if status != RUNNING:
+            plan[j, PLAN_STATUS] = status
+            return
+        plan[j, PLAN_STEPS] += 1
+
+
+@kernel
+def advance(
+    body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
+    max_steps, until_rest, floats, ints, pairs,
+) -> int:  # fmt: skip
+    """``advance_world`` for every row of the plan, one after the other; returns the
+    largest status (``RUNNING``: every world went as far as asked)."""
+    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+    worst = RUNNING
+    for j in range(plan.shape[0]):
+        if plan[j, PLAN_STATUS] == RUNNING:
+            advance_world(
+                state, layout, ctx, plan, j, max_steps, until_rest, floats[0], ints[0], pairs
+            )
+        worst = max(worst, plan[j, PLAN_STATUS])
+    return worst
+
+
+@parallel_kernel
+def advance_parallel(
+    body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
+    max_steps, until_rest, floats, ints, pairs,
+) -> None:  # fmt: skip
+    """``advance`` with the plan's rows split into as many chunks as there are scratch
+    rows, the chunks spread over threads (each chunk steps its worlds in order)."""
+    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+    rows, chunks = plan.shape[0], floats.shape[0]
+    for c in numba.prange(chunks):
+        for j in range(c * rows // chunks, (c + 1) * rows // chunks):
+            if plan[j, PLAN_STATUS] == RUNNING:
+                advance_world(
+                    state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c], pairs
+                )

@@ -1,0 +1,129 @@
+"""Scratch memory for a world's step: per-body step terms, candidate pairs, contact points.
+
+None of this is state: a step writes it before reading it. It lives in two arrays with
+one row per *chunk* of worlds (the worlds one thread steps one after the other), so a
+batch of a thousand worlds needs only a few rows, and ``views`` cuts a row into the
+named 2-D arrays below. Capacities grow when a world needs more (``pipeline.run``).
+
+Body terms ``terms`` (N, TERMS) float64, for the current step:
+
+* ``MOVING`` 1.0 if the body moves this step (awake and enabled), ``MOVABLE`` 1.0 if it is
+  also dynamic (pushed by contacts and forces);
+* ``STEP_INV_MASS``, ``STEP_INV_MOMENT``: the inverse mass and moment if movable, else 0;
+* ``DAMP_LINEAR``, ``DAMP_ANGULAR``: ``exp(-drag h)``, 1 if not movable;
+* ``ACCEL_X``, ``ACCEL_Y``, ``ACCEL_W``: ``h`` times the acceleration from gravity and the
+  applied force and torque;
+* ``ROLL_H``: ``h`` times the rolling resistance;
+* ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s);
+* ``HALF_SPEC``: half the body's speculative distance;
+* ``EXTENT_X``, ``EXTENT_Y``: half extents of its axis-aligned box (m);
+* ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step, and ``COS``, ``SIN`` of
+  the angle (computed once for the narrowphase);
+* ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box (``LEFT`` +inf when it is
+  not in the broadphase).
+
+Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
+feature), one row per contact point of the step, sorted by (A, B, feature):
+
+* from the narrowphase: the unit normal ``NX``, ``NY`` (from A to B), the anchors
+  ``RAX``, ``RAY``, ``RBX``, ``RBY`` (offsets of the point from A's and B's centres) and
+  ``SEP0``, the separation along the normal (m, < 0: overlap);
+* from the contact preparation (``contacts.py``): effective masses, mixed materials,
+  softness, the approach speed and acceleration along the normal, the Jacobian's cross
+  terms ``rA x n`` ... and the step inverse masses;
+* from the solver: accumulated impulses, the impulse over the step, the largest
+  increment, the normal velocity at first touch and the restitution target.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import kernel
+
+MOVING, MOVABLE, STEP_INV_MASS, STEP_INV_MOMENT = 0, 1, 2, 3
+DAMP_LINEAR, DAMP_ANGULAR = 4, 5
+ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 6, 7, 8, 9
+SPEED, HALF_SPEC, EXTENT_X, EXTENT_Y = 10, 11, 12, 13
+X0, Y0, ANGLE0 = 14, 15, 16
+LEFT, RIGHT, BOTTOM, TOP = 17, 18, 19, 20
+COS, SIN = 21, 22
+TERMS = 23
+
+NX, NY, RAX, RAY, RBX, RBY, SEP0 = 0, 1, 2, 3, 4, 5, 6
+NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION, MIXED_RESTITUTION = 7, 8, 9, 10
+APPROACH_SPEED, NORMAL_ACCEL = 11, 12  # normal velocity and acceleration at the step start
+BIAS_RATE, MASS_SCALE, IMPULSE_SCALE = 13, 14, 15  # the soft constraint
+NORMAL_J, TANGENT_J = 16, 17  # accumulated impulses (N s)
+STEP_J, MAX_J = 18, 19  # impulse over the step; largest solver increment (did it push?)
+IMPACT_V, BEFORE_V = 20, 21  # normal velocity when the point first pushed; before a sweep
+SHARED = 22  # 1.0 if the point's pair has another point
+RNA, RNB, RTA, RTB = 23, 24, 25, 26  # rA x n, rB x n, rA x t, rB x t
+IMA, IMB, IIA, IIB = 27, 28, 29, 30  # step inverse masses and moments of A and B
+TARGET = 31  # restitution: the normal velocity to reach
+BOUNCE = 32  # restitution: 0 not bouncing, 1 alone in its pair, 2 sharing the pair's bounce
+POINT_F = 33
+MERGED_F = 9  # = state.CONTACT_F: the contact cache being written
+
+
+def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
+    """Lengths of one float row and one int row."""
+    floats = bodies * TERMS + points * POINT_F + points * MERGED_F
+    ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies
+    return floats, ints
+
+
+class Workspace:
+    """Scratch rows for ``rows`` chunks of worlds (see the module docstring)."""
+
+    def __init__(self, rows: int, bodies: int, points: int, pairs: int) -> None:
+        self.rows, self.bodies, self.points, self.pairs = rows, bodies, points, pairs
+        floats, ints = row_sizes(bodies, points, pairs)
+        self.floats = np.zeros((rows, floats))
+        self.ints = np.zeros((rows, ints), np.int64)
+
+    def fits(self, rows: int, bodies: int, points: int, pairs: int) -> bool:
+        return (
+            rows <= self.rows
+            and bodies == self.bodies
+            and points <= self.points
+            and pairs <= self.pairs
+        )
+
+
+@kernel
+def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs: int):
+    """Cut one scratch row into ``(terms, points, merged, point_ids, merged_ids, pairs,
+    sorted_pairs, buckets, parents, members)``."""
+    at = 0
+    terms = floats[at : at + bodies * TERMS].reshape(bodies, TERMS)
+    at += bodies * TERMS
+    point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
+    at += points * POINT_F
+    merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
+    at = 0
+    pair_rows = ints[at : at + 2 * pairs].reshape(pairs, 2)
+    at += 2 * pairs
+    sorted_pairs = ints[at : at + 2 * pairs].reshape(pairs, 2)
+    at += 2 * pairs
+    buckets = ints[at : at + bodies + 1]
+    at += bodies + 1
+    point_ids = ints[at : at + 3 * points].reshape(points, 3)
+    at += 3 * points
+    merged_ids = ints[at : at + 3 * points].reshape(points, 3)
+    at += 3 * points
+    parents = ints[at : at + bodies]
+    at += bodies
+    members = ints[at : at + bodies]
+    return (
+        terms,
+        point_rows,
+        merged,
+        point_ids,
+        merged_ids,
+        pair_rows,
+        sorted_pairs,
+        buckets,
+        parents,
+        members,
+    )

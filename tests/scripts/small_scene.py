@@ -1,0 +1,53 @@
+"""A small scene with every shape pair, a spring, a sensor and breakable bodies, stepped
+and its final state written to the file named on the command line (``test_compiled.py``
+runs it compiled and with ``NUMBA_DISABLE_JIT=1`` and compares the two)."""
+
+import sys
+
+import numpy as np
+
+import impulse2d as p2
+
+
+def build() -> p2.World:
+    world = p2.World(substeps=4, damage_speed=0.5)
+    world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0), friction=0.7))
+    world.add(p2.Plane(normal=(1.0, 0.0), point=(-3.0, 0.0)))
+    for i in range(3):
+        world.add(p2.Box(position=(0.3 * i, 0.25 + 0.5 * i), width=0.9, height=0.5, angle=0.05 * i))
+    ball = world.add(
+        p2.Circle(position=(-1.5, 2.0), radius=0.3, velocity=(3.0, 0.0), restitution=0.6)
+    )
+    pig = world.add(p2.Circle(position=(1.5, 0.4), radius=0.25, health=2.0))
+    world.add(p2.Box(position=(2.5, 0.2), width=0.3, height=0.3, fixed=True))
+    kick = world.add(
+        p2.Box(position=(-2.0, 0.2), width=0.3, height=0.3, kinematic=True, velocity=(0.5, 0.0))
+    )
+    world.add(p2.Spring(ball, pig, stiffness=20.0, damping=0.5, anchor1=(0.1, 0.0)))
+    world.add(p2.Sensor(position=(2.0, 3.0), radius=0.5, disables=True))
+    world.add(p2.Sensor(position=(0.0, 2.0), width=12.0, height=8.0, outside=True))
+    del kick
+    return world
+
+
+def main(path: str) -> None:
+    world = build().replicate(3)
+    world.bodies[5].velocity = np.array([[3.0, 0.0], [1.0, 4.0], [-2.0, 1.0]])
+    for _ in range(40):
+        world.step(1 / 60)
+    steps = world.run_until_rest(1 / 60, 30, worlds=[0, 2])
+    s = world.state
+    np.savez(
+        path,
+        body=s.body,
+        body_i=s.body_i,
+        contact=s.contact,
+        contact_i=s.contact_i,
+        world_i=s.world_i,
+        time=s.time,
+        steps=steps,
+    )
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
