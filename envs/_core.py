@@ -8,18 +8,20 @@ vector environment steps all its worlds in the same numpy calls. Because the eng
 every world of a batch exactly as it would alone, env ``i`` of a vector environment seeded
 ``seed`` gives bitwise what a single environment seeded ``seed + i`` gives.
 
-Worlds whose shot has ended stop costing work: they are at rest, their bodies asleep, so
-the engine skips them while the others are still moving. A shot that reaches the step cap
-is ended with ``World.stop`` in that world, alone or in a batch alike.
+A shot runs in compiled code from the stroke to rest (``World.run_until_rest``): a world
+whose shot has ended costs nothing while the others are still moving, and what a game
+checks during a shot is an engine feature the kernels run (pockets are sensors, blocks
+and pigs have health). A shot that reaches the step cap is ended with ``World.stop`` in
+that world, alone or in a batch alike.
 
 A new episode is built in a one-world *template* (by the same code that built the batch)
 and copied into its world with ``World.restore``: that writes only the chosen world, so a
 reset in a vector environment leaves the other worlds exactly as they were.
 
 Subclasses fill in the game: ``_new_episode`` (set the template up from a world's own
-random generator), ``_launch`` (apply the actions), ``_after_step`` (per physics step:
-pockets, damage), ``_score`` (reward, end of episode and info after a shot), ``observe``
-and ``make_renderer``.
+random generator), ``_launch`` (apply the actions), ``_score`` (reward, end of episode
+and info after a shot, from what the engine recorded), ``observe`` and
+``make_renderer``.
 """
 
 from __future__ import annotations
@@ -70,9 +72,6 @@ class ShotGame:
         """Apply one action per world (rows of ``actions``, already checked and clipped)."""
         raise NotImplementedError
 
-    def _after_step(self, shooting: np.ndarray) -> None:
-        """Called after every physics step with the mask of worlds still in their shot."""
-
     def _score(self, worlds: np.ndarray, steps: np.ndarray) -> tuple[np.ndarray, np.ndarray, Info]:
         """Rewards (float64), terminated flags and info arrays of the worlds after a shot."""
         raise NotImplementedError
@@ -120,25 +119,20 @@ class ShotGame:
         return self._score(worlds, steps)
 
     def _run(self, worlds: np.ndarray) -> np.ndarray:
-        """Step until the given worlds are at rest; returns each one's physics steps."""
+        """Run the physics until the given worlds are at rest (or the cap); returns each
+        one's physics steps. Frames, if asked for, every ``frame_every`` steps."""
         world = self.world
-        steps = np.zeros(worlds.size, np.int64)
-        shooting = np.zeros(self.batch_size, dtype=bool)
-        shooting[worlds] = True
-        count = 0
-        while True:
-            shooting &= ~np.atleast_1d(world.at_rest())
-            if not shooting.any():
-                break
-            if count >= self.max_shot_steps:  # the cap: end the shot where it stands
-                world.stop(np.flatnonzero(shooting))
-                break
-            world.step(self.dt)
-            count += 1
-            steps += shooting[worlds]
-            self._after_step(shooting)
-            if self.frame_every and self.on_frame and count % self.frame_every == 0:
-                self.on_frame(self.frame_world)
+        callback = None
+        if self.frame_every and self.on_frame is not None:
+            on_frame = self.on_frame
+            callback = lambda _: on_frame(self.frame_world)  # noqa: E731
+        steps = world.run_until_rest(
+            self.dt, self.max_shot_steps, worlds, every=self.frame_every or None, callback=callback
+        )
+        capped = worlds[steps >= self.max_shot_steps]
+        if capped.size:  # the cap: end the shot where it stands
+            still = ~np.atleast_1d(world.at_rest())[capped]
+            world.stop(capped[still])
         return steps
 
 

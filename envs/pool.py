@@ -122,7 +122,6 @@ class PoolGame(ShotGame):
         count = self.num_balls + 1
         self.potted = np.zeros((batch_size, count), dtype=bool)
         self._potted_before = self.potted.copy()
-        self._touched = np.zeros(batch_size, dtype=bool)
         self._potential_before = np.zeros(batch_size)
         self.observation_low = np.tile(np.array([-1.0, -1.0, 0.0], np.float32), count)
         self.observation_high = np.ones(3 * count, np.float32)
@@ -162,6 +161,17 @@ class PoolGame(ShotGame):
                     friction=FRICTION_CUSHION,
                 )
             )
+        # A ball is potted when its centre enters a pocket circle, or, as a safeguard,
+        # leaves the table past a cushion line: sensors that switch it off.
+        centres, radii = pockets()
+        for centre, radius in zip(centres, radii, strict=True):
+            world.add(p2.Sensor(position=centre, radius=radius, disables=True))
+        reach = 2 * BALL_RADIUS
+        world.add(
+            p2.Sensor(
+                width=TABLE_LENGTH + reach, height=TABLE_WIDTH + reach, outside=True, disables=True
+            )
+        )
         return world, balls
 
     # -- episodes ----------------------------------------------------------------------------------
@@ -214,9 +224,9 @@ class PoolGame(ShotGame):
         impulse = np.zeros((self.batch_size, 2))
         impulse[worlds, 0] = BALL_MASS * speed * np.cos(angle)
         impulse[worlds, 1] = BALL_MASS * speed * np.sin(angle)
+        self.world.reset_events(worlds)
         self.balls[0].apply_impulse(impulse)
         self._potted_before[worlds] = self.potted[worlds]
-        self._touched[worlds] = False
         if self.shaping:
             self._potential_before[worlds] = self._potential(worlds)
 
@@ -232,39 +242,19 @@ class PoolGame(ShotGame):
         on_table = ~self.potted[worlds, 1:]
         return -(nearest * on_table).sum(axis=1) / TABLE_LENGTH
 
-    def _after_step(self, shooting: np.ndarray) -> None:
-        """Pot the moving balls whose centres entered a pocket (or, as a safeguard, left
-        the table past a cushion line), and note which cue balls have hit a ball."""
-        world = self.world
-        count = self.num_balls + 1
-        moving = world.array("awake")[:, :count] & world.array("enabled")[:, :count]
-        rows, slots = np.nonzero(moving)
-        if rows.size:
-            pose = world.array("pose")
-            x, y = pose[0][rows, slots], pose[1][rows, slots]
-            dx = x[:, None] - self.pocket_centres[:, 0]
-            dy = y[:, None] - self.pocket_centres[:, 1]
-            inside = (dx * dx + dy * dy < self.pocket_radii**2).any(axis=1)
-            inside |= np.abs(x) > TABLE_LENGTH / 2 + BALL_RADIUS
-            inside |= np.abs(y) > TABLE_WIDTH / 2 + BALL_RADIUS
-            if inside.any():
-                self._pot(rows[inside], slots[inside])
-        if not self._touched[shooting].all():
-            w, a, b, _ = world.touches()
-            cue_hit = ((a == 0) & (b >= 1) & (b < count)) | ((b == 0) & (a >= 1) & (a < count))
-            self._touched[w[cue_hit]] = True
-
-    def _pot(self, rows: np.ndarray, slots: np.ndarray) -> None:
-        self.potted[rows, slots] = True
-        for slot in np.unique(slots):
-            ball = self.balls[slot]
-            ball.enabled = ball.enabled & ~np.isin(np.arange(self.batch_size), rows[slots == slot])
-
     def _score(self, worlds: np.ndarray, steps: np.ndarray) -> tuple[np.ndarray, np.ndarray, Info]:
+        count = self.num_balls + 1
+        world = self.world
+        # What the engine recorded during the shot: the balls its sensors switched off,
+        # and the first body each ball pushed against.
+        self.potted[worlds] |= world.array("sensed")[worlds, :count] >= 0
+        first = world.array("first_contact")[worlds, :count]
+        cue_first = first[:, 0]
+        touched = ((cue_first >= 1) & (cue_first < count)) | (first[:, 1:] == 0).any(axis=1)
         new = self.potted[worlds] & ~self._potted_before[worlds]
         objects = new[:, 1:].sum(axis=1)
         scratch = new[:, 0]
-        no_touch = ~self._touched[worlds]
+        no_touch = ~touched
         if scratch.any():
             self._respot(worlds[scratch])
         reward = objects - 1.0 * scratch - 0.1 * no_touch

@@ -68,20 +68,34 @@ class SlingshotGame(ShotGame):
         self.world, self.bird, self.pigs, self.blocks = self._build(batch_size)
         self.template, *self._template_bodies = self._build(1)
         slots = MAX_PIGS + MAX_BLOCKS
-        self.alive = np.zeros((batch_size, slots), dtype=bool)
-        self.health = np.zeros((batch_size, slots))
         self.max_health = np.ones((batch_size, slots))
+        self._in_level = np.zeros((batch_size, slots), dtype=bool)
         self.material = np.zeros((batch_size, slots), np.int64)  # blocks only
         self.birds_left = np.zeros(batch_size, np.int64)
-        self._alive_before = self.alive.copy()
         self._targets = np.array([body.slot for body in (*self.pigs, *self.blocks)])
+        self._alive_before = self.alive
         low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
         self.observation_low = np.append(np.tile(low, slots), np.float32(0.0))
         self.observation_high = np.ones(slots * FEATURES + 1, np.float32)
 
+    @property
+    def alive(self) -> np.ndarray:
+        """(B, 24) bool: which pigs and blocks are still there (not destroyed)."""
+        return self.world.array("enabled")[:, self._targets].copy()
+
+    @property
+    def health(self) -> np.ndarray:
+        """(B, 24): the health (N s) each pig and block of the level has left (below 0 for
+        one that broke: the impact took more); 0 for slots the level does not use."""
+        return np.where(self._in_level, self.world.array("health")[:, self._targets], 0.0)
+
     @staticmethod
     def _build(batch: int) -> tuple[p2.World, p2.Circle, list[p2.Circle], list[p2.Box]]:
-        world = p2.World(gravity=(0.0, -9.81), batch_size=batch, substeps=4)
+        # Impacts closing slower than IMPACT_SPEED do no damage (resting stacks); a body that
+        # leaves the arena is gone: a sensor outside which bodies are switched off.
+        world = p2.World(
+            gravity=(0.0, -9.81), batch_size=batch, substeps=4, damage_speed=IMPACT_SPEED
+        )
         bird = world.add(
             p2.Circle(
                 radius=BIRD_RADIUS,
@@ -105,6 +119,10 @@ class SlingshotGame(ShotGame):
         ]
         blocks = [world.add(p2.Box()) for _ in range(MAX_BLOCKS)]
         world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0), friction=0.8, restitution=0.1))
+        middle, width = (ARENA_X[0] + ARENA_X[1]) / 2, ARENA_X[1] - ARENA_X[0]
+        world.add(
+            p2.Sensor(position=(middle, 0.0), width=width, height=1e4, outside=True, disables=True)
+        )
         for body in (bird, *pigs, *blocks):
             _park(body)
         world.stop()
@@ -123,16 +141,15 @@ class SlingshotGame(ShotGame):
         level = self._pick_level(rng)
         bird, pigs, blocks = self._template_bodies
         _park(bird)
-        self.alive[world] = False
-        self.health[world] = 0.0
         self.max_health[world] = 1.0
+        self._in_level[world] = False
         self.material[world] = 0
         for i, pig in enumerate(pigs):
             if i < len(level.pigs):
                 pig.position = level.pigs[i]
                 pig.enabled = True
-                self.alive[world, i] = True
-                self.health[world, i] = self.max_health[world, i] = PIG_HEALTH
+                pig.health = self.max_health[world, i] = PIG_HEALTH
+                self._in_level[world, i] = True
             else:
                 _park(pig)
         for i, block in enumerate(blocks):
@@ -145,8 +162,8 @@ class SlingshotGame(ShotGame):
                 block.position = (x, y)
                 block.enabled = True
                 k = MAX_PIGS + i
-                self.alive[world, k] = True
-                self.health[world, k] = self.max_health[world, k] = kind.health
+                block.health = self.max_health[world, k] = kind.health
+                self._in_level[world, k] = True
                 self.material[world, k] = material
             else:
                 _park(block)
@@ -161,7 +178,7 @@ class SlingshotGame(ShotGame):
         bird leaves the sling at ``SLING``. A world with no bird left does nothing."""
         ready = self.birds_left[worlds] > 0
         launch, actions = worlds[ready], actions[ready]
-        self._alive_before[worlds] = self.alive[worlds]
+        self._alive_before = self.alive
         if launch.size == 0:
             return
         lo, hi = ANGLE_RANGE
@@ -179,37 +196,17 @@ class SlingshotGame(ShotGame):
         bird.enabled, bird.position, bird.velocity = enabled, position, velocity
         self.birds_left[launch] -= 1
 
-    def _after_step(self, shooting: np.ndarray) -> None:
-        """Damage: every pig and block loses the impulse of the impacts it took this step
-        (contacts closing faster than ``IMPACT_SPEED``); at zero health, or when it leaves
-        the arena, it is destroyed (disabled)."""
-        world = self.world
-        hits = np.atleast_2d(world.impulses(IMPACT_SPEED))[:, self._targets]
-        x = world.array("pose")[0]
-        alive = self.alive
-        struck = alive & (hits > 0.0)
-        if struck.any():
-            self.health[struck] -= hits[struck]
-        gone = alive & ((self.health <= 0.0) | _outside(x[:, self._targets]))
-        if gone.any():
-            self.alive[gone] = False
-            bodies = [*self.pigs, *self.blocks]
-            for k in np.flatnonzero(gone.any(axis=0)):
-                bodies[k].enabled = np.atleast_1d(bodies[k].enabled) & ~gone[:, k]
-        flying = world.array("enabled")[:, self.bird.slot] & _outside(x[:, self.bird.slot])
-        if flying.any():
-            self.bird.enabled = np.atleast_1d(self.bird.enabled) & ~flying
-
     def _score(self, worlds: np.ndarray, steps: np.ndarray) -> tuple[np.ndarray, np.ndarray, Info]:
         # The bird leaves the level once its shot is over.
         enabled = np.atleast_1d(self.bird.enabled).copy()
         if enabled[worlds].any():
             enabled[worlds] = False
             self.bird.enabled = enabled
-        destroyed = self._alive_before[worlds] & ~self.alive[worlds]
+        alive = self.alive
+        destroyed = self._alive_before[worlds] & ~alive[worlds]
         pigs = destroyed[:, :MAX_PIGS].sum(axis=1)
         blocks = destroyed[:, MAX_PIGS:].sum(axis=1)
-        pigs_left = self.alive[worlds, :MAX_PIGS].sum(axis=1)
+        pigs_left = alive[worlds, :MAX_PIGS].sum(axis=1)
         birds_left = self.birds_left[worlds]
         cleared = pigs_left == 0
         reward = PIG_REWARD * pigs + BLOCK_REWARD * blocks + BIRD_BONUS * birds_left * cleared
@@ -242,7 +239,8 @@ class SlingshotGame(ShotGame):
         half_w = world.array("half_width")[:, self._targets]
         half_h = world.array("half_height")[:, self._targets]
         obs = np.zeros((self.batch_size, MAX_PIGS + MAX_BLOCKS, FEATURES), np.float32)
-        obs[:, :, 0] = self.alive
+        alive = self.alive
+        obs[:, :, 0] = alive
         obs[:, MAX_PIGS:, 1] = 1.0
         obs[:, :, 2] = self.material / 2.0
         middle, half = (ARENA_X[0] + ARENA_X[1]) / 2, (ARENA_X[1] - ARENA_X[0]) / 2
@@ -252,7 +250,7 @@ class SlingshotGame(ShotGame):
         obs[:, :, 6] = np.minimum(half_w, 1.0)  # widths (m) / 2 m: blocks are under 2 m
         obs[:, :, 7] = np.minimum(half_h, 1.0)
         obs[:, :, 8] = np.clip(self.health / self.max_health, 0.0, 1.0)
-        obs[~self.alive] = 0.0
+        obs[~alive] = 0.0
         birds = (self.birds_left / self.num_birds).astype(np.float32)[:, None]
         return np.concatenate([obs.reshape(self.batch_size, -1), birds], axis=1)
 
@@ -281,11 +279,12 @@ class SlingshotGame(ShotGame):
         half_w = self.world.array("half_width")[world]
         half_h = self.world.array("half_height")[world]
         scale = renderer.camera.pixels_per_metre
+        alive, health = self.alive[world], self.health[world]
         for k, block in enumerate(self.blocks, start=MAX_PIGS):
-            if not self.alive[world, k]:
+            if not alive[k]:
                 continue
             slot = block.slot
-            shade = 0.55 + 0.45 * max(self.health[world, k] / self.max_health[world, k], 0.0)
+            shade = 0.55 + 0.45 * max(health[k] / self.max_health[world, k], 0.0)
             colour = _MATERIAL_COLOURS[self.material[world, k]] * shade
             x, y = renderer.to_pixels(pose[0, slot], pose[1, slot])
             hw, hh = half_w[slot] * scale, half_h[slot] * scale
@@ -303,10 +302,6 @@ def _park(body: p2.Circle | p2.Box) -> None:
     body.velocity = (0.0, 0.0)
     body.angle = 0.0
     body.angular_velocity = 0.0
-
-
-def _outside(x: np.ndarray) -> np.ndarray:
-    return (x < ARENA_X[0]) | (x > ARENA_X[1])
 
 
 def _draw_sling(canvas: np.ndarray, renderer: Renderer) -> None:

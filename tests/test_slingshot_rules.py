@@ -45,13 +45,12 @@ def _game(level: Level, num_birds: int = 3) -> SlingshotGame:
 
 
 def _settle(game: SlingshotGame, steps: int | None = None) -> None:
-    """Step with the game's damage rule, ``steps`` times or (None) until at rest."""
+    """Step (the engine applies the damage), ``steps`` times or (None) until at rest."""
     if steps is None:
         game._run(WORLD)
         return
     for _ in range(steps):
         game.world.step(DT)
-        game._after_step(np.ones(1, dtype=bool))
 
 
 # -- levels at rest --------------------------------------------------------------------------

@@ -83,6 +83,8 @@ class Runner:
         Returns the plan: per world its index, the steps it took and its status
         (``pipeline.UNSTABLE_SPRING`` for a world stopped by a spring too stiff)."""
         plan = self._plan(worlds)
+        if plan.shape[0] == 0:
+            return plan
         status = self._call(state, layout, ctx, plan, max_steps, until_rest)
         while status != pipeline.RUNNING:
             short = plan[:, pipeline.PLAN_STATUS] == pipeline.NEEDS_ROOM

@@ -287,16 +287,18 @@ class World:
             raise ValueError(f"callback must be callable, got {callback!r}")
         every = _checks.positive_int("every", 1 if every is None else every)
         taken = np.zeros(chosen.size, np.int64)
-        while True:
-            going = np.flatnonzero(taken < cap)
-            chunk = min(every, cap - int(taken[going].min())) if going.size else 0
+        going = np.arange(chosen.size)
+        while going.size:
+            chunk = min(every, cap - int(taken[going].min()))
             plan = self._runner.run(self.state, self.layout, context, chosen[going], chunk, True)
             self._check_springs(plan, context)
             moved = plan[:, pipeline.PLAN_STEPS]
             taken[going] += moved
-            if chunk == 0 or not (moved == chunk).any():
-                return taken
-            callback(taken.copy())
+            if moved.max() == chunk:  # a frame boundary was reached
+                callback(taken.copy())
+            # A world goes on while it used its whole chunk (it did not come to rest).
+            going = going[(moved == chunk) & (taken[going] < cap)]
+        return taken
 
     def _check_springs(self, plan: np.ndarray, context: np.ndarray) -> None:
         bad = np.flatnonzero(plan[:, pipeline.PLAN_STATUS] == pipeline.UNSTABLE_SPRING)
