@@ -7,8 +7,8 @@ import pytest
 
 import impulse2d as p2
 from impulse2d import broadphase, integrate, workspace
-from impulse2d.state import DYNAMIC, ENABLED, PLANE, SAP_ORDER, X, Y
-from impulse2d.workspace import EXTENT_X, EXTENT_Y, HALF_SPEC, MOVABLE, MOVING, SPEED
+from impulse2d.state import DYNAMIC, ENABLED, PLANE, SAP_ORDER
+from impulse2d.workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
 
 DT = 1 / 60
 
@@ -39,7 +39,7 @@ def brute_force(world: p2.World, w: int = 0) -> set:
     n = state.body.shape[1]
     terms = np.zeros((n, workspace.TERMS))
     integrate.body_terms(state.body, state.body_i, shapes, w, ctx, terms)
-    body, on = state.body[w], state.body_i[w, :, ENABLED] == 1
+    on = state.body_i[w, :, ENABLED] == 1
     kind, motion = shapes[:, 0], shapes[:, 1]
     found = set()
     for a in range(n):
@@ -55,11 +55,8 @@ def brute_force(world: p2.World, w: int = 0) -> set:
                 continue
             if motion[a] != DYNAMIC and motion[b] != DYNAMIC:
                 continue
-            grow = (
-                (terms[a, SPEED] + terms[b, SPEED]) * DT + terms[a, HALF_SPEC] + terms[b, HALF_SPEC]
-            )
-            near_x = abs(body[a, X] - body[b, X]) < terms[a, EXTENT_X] + terms[b, EXTENT_X] + grow
-            near_y = abs(body[a, Y] - body[b, Y]) < terms[a, EXTENT_Y] + terms[b, EXTENT_Y] + grow
+            near_x = terms[a, LEFT] < terms[b, RIGHT] and terms[b, LEFT] < terms[a, RIGHT]
+            near_y = terms[a, BOTTOM] < terms[b, TOP] and terms[b, BOTTOM] < terms[a, TOP]
             if near_x and near_y:
                 first, second = (a, b) if (kind[a], a) <= (kind[b], b) else (b, a)
                 found.add((first, second))

@@ -30,7 +30,10 @@ JIT_DISABLED = bool(numba.config.DISABLE_JIT)
 
 def kernel(function: F) -> F:
     """Compile a function that runs on one thread."""
-    return numba.njit(cache=True, nogil=True)(function)
+    return numba.njit(
+        cache=True,
+        nogil=True,
+    )(function)
 
 
 def inline(function: F) -> F:

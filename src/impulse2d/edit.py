@@ -17,10 +17,14 @@ from ._jit import kernel
 from .events import disable, enable, forget_contacts
 from .sleep import wake_island, wake_neighbours
 from .state import (
+    ANGLE,
+    ANGULAR_DRAG,
     AWAKE,
     BOUND,
     BOX,
     CIRCLE,
+    COS,
+    DAMP_H,
     DYNAMIC,
     ENABLED,
     FIXED,
@@ -32,8 +36,10 @@ from .state import (
     INV_MOMENT,
     ISLAND,
     KINEMATIC,
+    LINEAR_DRAG,
     MASS,
     MOMENT,
+    SIN,
     SLEEP_TIME,
     TORQUE,
     VX,
@@ -107,6 +113,7 @@ def write_body(
         raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
     changed = np.flatnonzero((body[:, slot, columns] != values).any(axis=1))
     body[:, slot, columns] = values
+    refresh_derived(world, slot, columns)
     if changed.size == 0:
         return
     if motion == KINEMATIC and set(columns) <= set(VELOCITY_COLUMNS):
@@ -116,6 +123,16 @@ def write_body(
             world.state.body_i[changed, slot, ENABLED] == 1
         )
     wake(world, changed, slot, neighbours=moves)
+
+
+def refresh_derived(world: World, slot: int, columns: list[int]) -> None:
+    """Keep the derived columns of a body current after a write: the rotation's cosine
+    and sine, and (invalidated, recomputed at the next step) the drag factors."""
+    body = world.state.body[:, slot]
+    if ANGLE in columns:
+        body[:, COS], body[:, SIN] = np.cos(body[:, ANGLE]), np.sin(body[:, ANGLE])
+    if LINEAR_DRAG in columns or ANGULAR_DRAG in columns:
+        body[:, DAMP_H] = 0.0
 
 
 def rebuild_mass(world: World, slot: int) -> None:

@@ -36,6 +36,10 @@ from .state import (
     BOUND,
     BOX,
     CIRCLE,
+    COS,
+    DAMP_ANGULAR,
+    DAMP_H,
+    DAMP_LINEAR,
     DAMPING,
     DYNAMIC,
     ENABLED,
@@ -49,6 +53,7 @@ from .state import (
     PLANE,
     REST_LENGTH,
     ROLLING,
+    SIN,
     SPRING_ON,
     STIFFNESS,
     TORQUE,
@@ -64,18 +69,12 @@ from .workspace import (
     ACCEL_Y,
     ANGLE0,
     BOTTOM,
-    COS,
-    DAMP_ANGULAR,
-    DAMP_LINEAR,
-    EXTENT_X,
-    EXTENT_Y,
     HALF_SPEC,
     LEFT,
     MOVABLE,
     MOVING,
     RIGHT,
     ROLL_H,
-    SIN,
     SPEED,
     STEP_INV_MASS,
     STEP_INV_MOMENT,
@@ -90,7 +89,7 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
     """Fill the step terms of every body of world ``w`` (see ``workspace``). (The loop
     body is written out here rather than called: a compiled helper that branches costs
     numba's reference counting of every array it is handed, per call.)"""
-    h, spec = ctx[ctx_.H], ctx[ctx_.SPECULATIVE]
+    h, spec, dt = ctx[ctx_.H], ctx[ctx_.SPECULATIVE], ctx[ctx_.DT]
     for i in range(shapes.shape[0]):
         kind, motion = shapes[i, 0], shapes[i, 1]
         enabled = body_i[w, i, ENABLED] == 1
@@ -98,45 +97,44 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
         movable = moving and motion == DYNAMIC
         terms[i, MOVING] = 1.0 if moving else 0.0
         terms[i, MOVABLE] = 1.0 if movable else 0.0
-        terms[i, STEP_INV_MASS] = body[w, i, INV_MASS] if movable else 0.0
-        terms[i, STEP_INV_MOMENT] = body[w, i, INV_MOMENT] if movable else 0.0
-        linear, angular = body[w, i, LINEAR_DRAG], body[w, i, ANGULAR_DRAG]
-        terms[i, DAMP_LINEAR] = math.exp(-h * linear) if movable and linear != 0.0 else 1.0
-        terms[i, DAMP_ANGULAR] = math.exp(-h * angular) if movable and angular != 0.0 else 1.0
-        inv_mass = body[w, i, INV_MASS]
-        terms[i, ACCEL_X] = (
-            h * (ctx[ctx_.GRAVITY_X] + body[w, i, FX] * inv_mass) if movable else 0.0
-        )
-        terms[i, ACCEL_Y] = (
-            h * (ctx[ctx_.GRAVITY_Y] + body[w, i, FY] * inv_mass) if movable else 0.0
-        )
-        terms[i, ACCEL_W] = h * body[w, i, TORQUE] * body[w, i, INV_MOMENT] if movable else 0.0
-        terms[i, ROLL_H] = h * body[w, i, ROLLING] if movable else 0.0
-        speed = abs(body[w, i, VX]) + abs(body[w, i, VY]) + abs(body[w, i, W]) * body[w, i, BOUND]
-        terms[i, SPEED] = speed if moving else 0.0
+        if movable:
+            inv_mass = body[w, i, INV_MASS]
+            terms[i, STEP_INV_MASS] = inv_mass
+            terms[i, STEP_INV_MOMENT] = body[w, i, INV_MOMENT]
+            terms[i, ACCEL_X] = h * (ctx[ctx_.GRAVITY_X] + body[w, i, FX] * inv_mass)
+            terms[i, ACCEL_Y] = h * (ctx[ctx_.GRAVITY_Y] + body[w, i, FY] * inv_mass)
+            terms[i, ACCEL_W] = h * body[w, i, TORQUE] * body[w, i, INV_MOMENT]
+            terms[i, ROLL_H] = h * body[w, i, ROLLING]
+            if body[w, i, DAMP_H] != h:  # exp(-drag h), recomputed only when h or drag change
+                linear, angular = body[w, i, LINEAR_DRAG], body[w, i, ANGULAR_DRAG]
+                body[w, i, DAMP_LINEAR] = math.exp(-h * linear) if linear != 0.0 else 1.0
+                body[w, i, DAMP_ANGULAR] = math.exp(-h * angular) if angular != 0.0 else 1.0
+                body[w, i, DAMP_H] = h
+        else:
+            terms[i, STEP_INV_MASS] = terms[i, STEP_INV_MOMENT] = 0.0
+            terms[i, ACCEL_X] = terms[i, ACCEL_Y] = terms[i, ACCEL_W] = terms[i, ROLL_H] = 0.0
+        vx, vy, turn, bound = body[w, i, VX], body[w, i, VY], body[w, i, W], body[w, i, BOUND]
+        terms[i, SPEED] = abs(vx) + abs(vy) + abs(turn) * bound if moving else 0.0
         # Half of the speculative distance: the world's, but at most a quarter of the body's
         # size, so small bodies (pool balls) are not given contacts whole radii away. Planes
         # have no size and take the world's.
-        terms[i, HALF_SPEC] = 0.5 * (spec if kind == PLANE else min(spec, 0.25 * body[w, i, BOUND]))
-        x, y, angle = body[w, i, X], body[w, i, Y], body[w, i, ANGLE]
+        terms[i, HALF_SPEC] = 0.5 * (spec if kind == PLANE else min(spec, 0.25 * bound))
+        x, y = body[w, i, X], body[w, i, Y]
+        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = x, y, body[w, i, ANGLE]
+        hw, hh = body[w, i, HALF_W], body[w, i, HALF_H]
         if kind == BOX:
-            c, s = math.cos(angle), math.sin(angle)
-            terms[i, COS], terms[i, SIN] = c, s
-            terms[i, EXTENT_X] = abs(c) * body[w, i, HALF_W] + abs(s) * body[w, i, HALF_H]
-            terms[i, EXTENT_Y] = abs(s) * body[w, i, HALF_W] + abs(c) * body[w, i, HALF_H]
+            c, s = abs(body[w, i, COS]), abs(body[w, i, SIN])
+            extent_x, extent_y = c * hw + s * hh, s * hw + c * hh
         else:
-            terms[i, COS], terms[i, SIN] = 1.0, 0.0  # a circle's turn changes no contact
-            terms[i, EXTENT_X] = body[w, i, HALF_W]
-            terms[i, EXTENT_Y] = body[w, i, HALF_W]
-        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = x, y, angle
-        # The broadphase box is the shape's box grown by how far the body can travel this step
-        # and by half its speculative distance.
-        grow = terms[i, SPEED] * ctx[ctx_.DT] + terms[i, HALF_SPEC]
+            extent_x, extent_y = hw, hw
+        # The broadphase box: the shape's box grown by how far the body can travel this
+        # step and by half its speculative distance.
+        grow = terms[i, SPEED] * dt + terms[i, HALF_SPEC]
         in_broadphase = enabled and (kind == CIRCLE or kind == BOX)
-        terms[i, LEFT] = x - terms[i, EXTENT_X] - grow if in_broadphase else np.inf
-        terms[i, RIGHT] = x + terms[i, EXTENT_X] + grow
-        terms[i, BOTTOM] = y - terms[i, EXTENT_Y] - grow
-        terms[i, TOP] = y + terms[i, EXTENT_Y] + grow
+        terms[i, LEFT] = x - extent_x - grow if in_broadphase else np.inf
+        terms[i, RIGHT] = x + extent_x + grow
+        terms[i, BOTTOM] = y - extent_y - grow
+        terms[i, TOP] = y + extent_y + grow
 
 
 @kernel
@@ -145,9 +143,9 @@ def integrate_velocities(body, w, terms) -> None:
     for i in range(terms.shape[0]):
         if terms[i, MOVABLE] == 0.0:
             continue
-        body[w, i, VX] = body[w, i, VX] * terms[i, DAMP_LINEAR] + terms[i, ACCEL_X]
-        body[w, i, VY] = body[w, i, VY] * terms[i, DAMP_LINEAR] + terms[i, ACCEL_Y]
-        body[w, i, W] = body[w, i, W] * terms[i, DAMP_ANGULAR] + terms[i, ACCEL_W]
+        body[w, i, VX] = body[w, i, VX] * body[w, i, DAMP_LINEAR] + terms[i, ACCEL_X]
+        body[w, i, VY] = body[w, i, VY] * body[w, i, DAMP_LINEAR] + terms[i, ACCEL_Y]
+        body[w, i, W] = body[w, i, W] * body[w, i, DAMP_ANGULAR] + terms[i, ACCEL_W]
         roll = terms[i, ROLL_H]
         if roll > 0.0:
             vx, vy = body[w, i, VX], body[w, i, VY]
@@ -165,6 +163,16 @@ def integrate_positions(body, w, terms, h) -> None:
         body[w, i, X] += h * body[w, i, VX]
         body[w, i, Y] += h * body[w, i, VY]
         body[w, i, ANGLE] += h * body[w, i, W]
+
+
+@kernel
+def refresh_rotation(body, shapes, w, terms) -> None:
+    """``COS``, ``SIN`` of the boxes that turned this step, so they are current between
+    steps for everyone who reads them."""
+    for i in range(shapes.shape[0]):
+        if terms[i, MOVING] == 1.0 and shapes[i, 0] == BOX:
+            body[w, i, COS] = math.cos(body[w, i, ANGLE])
+            body[w, i, SIN] = math.sin(body[w, i, ANGLE])
 
 
 @kernel

@@ -29,8 +29,8 @@ import math
 
 from . import settings as ctx_
 from ._jit import kernel
-from .state import BOX, CIRCLE, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, VX, VY, X, Y
-from .workspace import COS, HALF_SPEC, NX, NY, RAX, RAY, RBX, RBY, SEP0, SIN, SPEED
+from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
+from .workspace import HALF_SPEC, NX, NY, RAX, RAY, RBX, RBY, SEP0, SPEED
 
 CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX, CIRCLE_PLANE, BOX_PLANE = range(5)
 FEATURES = 32  # feature ids are < 32 (box-box: 8 reference faces x 4 incident vertices)
@@ -54,7 +54,7 @@ def shape(x, y, cos, sin, half_w, half_h, vx, vy, normal_x, normal_y):
 def shape_of(body, terms, w, i):
     """Body ``i`` of world ``w`` as a shape."""
     return (
-        body[w, i, X], body[w, i, Y], terms[i, COS], terms[i, SIN], body[w, i, HALF_W],
+        body[w, i, X], body[w, i, Y], body[w, i, COS], body[w, i, SIN], body[w, i, HALF_W],
         body[w, i, HALF_H], body[w, i, VX], body[w, i, VY], body[w, i, NORMAL_X],
         body[w, i, NORMAL_Y],
     )  # fmt: skip

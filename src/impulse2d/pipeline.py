@@ -35,6 +35,7 @@ from .integrate import (
     body_terms,
     integrate_positions,
     integrate_velocities,
+    refresh_rotation,
     spring_stability,
 )
 from .narrowphase import find_points
@@ -141,6 +142,7 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
     )
     store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids)
     damaged = record_contacts(body, body_i, w, ctx, points, ids, n)
+    refresh_rotation(body, shapes, w, terms)
     for i in range(shapes.shape[0]):
         body[w, i, FX] = body[w, i, FY] = body[w, i, TORQUE] = 0.0
         if shapes[i, 1] == KINEMATIC and body_i[w, i, ENABLED] == 1:  # awake while it moves

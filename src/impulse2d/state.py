@@ -53,7 +53,11 @@ LINEAR_DRAG, ANGULAR_DRAG = 20, 21  # 1/s: velocity decays as exp(-drag t)
 ROLLING = 22  # rolling resistance (m/s^2): a constant deceleration of the speed
 SLEEP_TIME = 23  # s the body has been slower than the sleep speed
 HEALTH = 24  # drained by impacts (N s); the body is switched off at 0; inf: unbreakable
-BODY_F = 25
+# Derived, kept current so a step need not recompute them for every body:
+COS, SIN = 25, 26  # of a box's angle, between steps (the narrowphase and broadphase use them)
+DAMP_LINEAR, DAMP_ANGULAR = 27, 28  # exp(-drag h) for the substep h = DAMP_H
+DAMP_H = 29  # the substep the factors are for (0: recompute them)
+BODY_F = 30
 
 # -- body: integer columns ----------------------------------------------------------------
 ENABLED = 0  # 1: the body takes part in this world
@@ -99,7 +103,7 @@ WORLD_I = 2
 def body_defaults() -> tuple[np.ndarray, np.ndarray]:
     """One free slot's float and integer row."""
     row = np.zeros(BODY_F)
-    row[[MASS, MOMENT, NORMAL_Y]] = 1.0
+    row[[MASS, MOMENT, NORMAL_Y, COS, DAMP_LINEAR, DAMP_ANGULAR]] = 1.0
     row[HEALTH] = np.inf
     row_i = np.zeros(BODY_I, np.int64)
     row_i[[ISLAND, SENSED, FIRST_CONTACT]] = -1

@@ -17,6 +17,7 @@ from .sensors import Sensor
 from .shapes import Body, Plane, _Slot
 from .springs import Spring
 from .state import (
+    ANGLE,
     AWAKE,
     BODY_I,
     CIRCLE,
@@ -26,6 +27,7 @@ from .state import (
     FREE,
     HALF_H,
     HALF_W,
+    LINEAR_DRAG,
     NORMAL_X,
     NORMAL_Y,
     PLANE,
@@ -92,6 +94,7 @@ def add(world: World, obj: Any) -> Any:
     world.layout.shapes[slot] = obj._kind, obj._motion
     for field, array in staged:
         state.body[:, slot, field.columns] = (array * field.scale).reshape(batch, -1)
+    edit.refresh_derived(world, slot, [ANGLE, LINEAR_DRAG])
     if obj._kind == CIRCLE:
         state.body[:, slot, HALF_H] = state.body[:, slot, HALF_W]
     if obj._kind == PLANE:

@@ -10,17 +10,15 @@ Body terms ``terms`` (N, TERMS) float64, for the current step:
 * ``MOVING`` 1.0 if the body moves this step (awake and enabled), ``MOVABLE`` 1.0 if it is
   also dynamic (pushed by contacts and forces);
 * ``STEP_INV_MASS``, ``STEP_INV_MOMENT``: the inverse mass and moment if movable, else 0;
-* ``DAMP_LINEAR``, ``DAMP_ANGULAR``: ``exp(-drag h)``, 1 if not movable;
 * ``ACCEL_X``, ``ACCEL_Y``, ``ACCEL_W``: ``h`` times the acceleration from gravity and the
   applied force and torque;
 * ``ROLL_H``: ``h`` times the rolling resistance;
 * ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s);
 * ``HALF_SPEC``: half the body's speculative distance;
-* ``EXTENT_X``, ``EXTENT_Y``: half extents of its axis-aligned box (m);
-* ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step, and ``COS``, ``SIN`` of
-  the angle (computed once for the narrowphase);
-* ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box (``LEFT`` +inf when it is
-  not in the broadphase).
+* ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step;
+* ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box, the shape's axis-aligned
+  box grown by how far it can travel and half its speculative distance (``LEFT`` +inf
+  when it is not in the broadphase).
 
 Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
 feature), one row per contact point of the step, sorted by (A, B, feature):
@@ -42,13 +40,11 @@ import numpy as np
 from ._jit import kernel
 
 MOVING, MOVABLE, STEP_INV_MASS, STEP_INV_MOMENT = 0, 1, 2, 3
-DAMP_LINEAR, DAMP_ANGULAR = 4, 5
-ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 6, 7, 8, 9
-SPEED, HALF_SPEC, EXTENT_X, EXTENT_Y = 10, 11, 12, 13
-X0, Y0, ANGLE0 = 14, 15, 16
-LEFT, RIGHT, BOTTOM, TOP = 17, 18, 19, 20
-COS, SIN = 21, 22
-TERMS = 23
+ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 4, 5, 6, 7
+SPEED, HALF_SPEC = 8, 9
+X0, Y0, ANGLE0 = 10, 11, 12
+LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
+TERMS = 17
 
 NX, NY, RAX, RAY, RBX, RBY, SEP0 = 0, 1, 2, 3, 4, 5, 6
 NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION, MIXED_RESTITUTION = 7, 8, 9, 10

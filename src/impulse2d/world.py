@@ -66,6 +66,11 @@ ARRAYS: dict[str, tuple[str, Any]] = {
                 "rolling_resistance",
                 "sleep_time",
                 "health",
+                "cos",
+                "sin",
+                "damp_linear",
+                "damp_angular",
+                "damp_h",
             ]
         )
     },
