@@ -133,7 +133,8 @@ class ShotVectorEnv(gym.vector.VectorEnv):
     """``num_envs`` games stepped in one batched engine (see the module docstring).
 
     ``max_episode_steps`` truncates episodes (``gym.make_vec`` passes the registered
-    value); ``render_mode="rgb_array"`` renders every world.
+    value); ``render_mode="rgb_array"`` renders every world; ``threads`` is how many
+    threads the batch is stepped on (default: every core; results do not depend on it).
     """
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -148,9 +149,11 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         num_envs: int = 1,
         max_episode_steps: int | None = None,
         render_mode: str | None = None,
+        threads: int | None = None,
         **game_options: Any,
     ) -> None:
         self.game = self.game_class(num_envs, **game_options)
+        self.game.world.threads = threads
         self.num_envs = self.game.batch_size
         if max_episode_steps is not None:
             max_episode_steps = _checks.positive_int("max_episode_steps", max_episode_steps)

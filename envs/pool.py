@@ -429,13 +429,16 @@ class Pool2DEnv(ShotEnv):
     ```python
     gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, shaping=0.0,
              render_mode=None)
-    gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point")
+    gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
+                 threads=None)
     ```
     * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
       pot from anywhere, is the natural first task for learning.
     * `layout`: `"rack"` or `"random"`; default `"rack"` for 15 balls, else `"random"`.
     * `max_shot_seconds`: simulated time after which a shot is stopped where it stands.
     * `shaping` (>= 0): weight of the potential-based shaping term (see Rewards).
+    * `threads` (vector env): threads the batch is stepped on; default every core. The
+      results do not depend on it.
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
       (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window).
 

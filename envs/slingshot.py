@@ -387,11 +387,14 @@ class Slingshot2DEnv(ShotEnv):
     ```python
     gym.make("Slingshot2D-v0", level="random", num_birds=3, max_shot_seconds=10.0,
              render_mode=None)
-    gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point")
+    gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
+                 threads=None)
     ```
     * `level`: `"random"`, `"handmade"` or a hand-made level's name (see Starting State).
     * `num_birds` (1-10): birds per level.
     * `max_shot_seconds`: simulated time after which a launch is stopped where it stands.
+    * `threads` (vector env): threads the batch is stepped on; default every core. The
+      results do not depend on it.
     * `render_mode`: `"rgb_array"` (480x270 frame after the launch), `"rgb_array_list"`
       (frames at 30 per simulated second during the launches), `"human"` (pygame-ce
       window).

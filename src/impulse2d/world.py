@@ -260,10 +260,12 @@ class World:
         structure.remove(self, obj)
 
     # -- stepping -----------------------------------------------------------------------------
-    def step(self, dt: float) -> None:
-        """Advance every world by ``dt`` seconds (``substeps`` solver substeps inside)."""
+    def step(self, dt: float, steps: int = 1) -> None:
+        """Advance every world by ``dt`` seconds (``substeps`` solver substeps inside), or
+        ``steps`` times by ``dt`` in one compiled call."""
         context = self.settings.step_context(_checks.positive("dt", dt))
-        plan = self._runner.run(self.state, self.layout, context, self._all(), 1, False)
+        count = 1 if steps.__class__ is int and steps == 1 else _checks.positive_int("steps", steps)
+        plan = self._runner.run(self.state, self.layout, context, self._all(), count, False)
         if plan[0, pipeline.PLAN_STATUS] or self.batch_size > 1:
             self._check_springs(plan, context)
 
