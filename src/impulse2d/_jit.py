@@ -18,7 +18,10 @@ The options, and why:
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
@@ -26,6 +29,31 @@ import numba
 F = TypeVar("F", bound=Callable[..., Any])
 
 JIT_DISABLED = bool(numba.config.DISABLE_JIT)
+_PACKAGE = Path(__file__).parent
+
+
+def clear_stale_cache(cache: str) -> None:
+    """Drop compiled kernels built from other sources than these, in the directory numba
+    caches this package's kernels in (``__pycache__``, or under ``NUMBA_CACHE_DIR``).
+
+    numba checks a cached function against its own file only, but a kernel inlines the
+    functions it calls from other modules: after an edit or an upgrade in place (``git
+    pull`` on an editable install) a kernel could run the code it was compiled from. So
+    the cache is stamped with a hash of every module of the package, and emptied when the
+    sources differ from the stamp. ``pipeline`` calls this on import, before any kernel
+    runs."""
+    digest = hashlib.sha256()
+    for path in sorted(_PACKAGE.glob("*.py")):
+        digest.update(path.name.encode() + path.read_bytes())
+    stamp, directory = digest.hexdigest(), Path(cache)
+    marker = directory / "kernels.sha256"
+    with contextlib.suppress(OSError):
+        if marker.exists() and marker.read_text() == stamp:
+            return
+        for cached in directory.glob("*.nb[ic]"):
+            cached.unlink(missing_ok=True)
+        directory.mkdir(parents=True, exist_ok=True)
+        marker.write_text(stamp)
 
 
 def kernel(function: F) -> F:

@@ -26,7 +26,7 @@ import numba
 import numpy as np
 
 from . import settings as ctx_
-from ._jit import kernel, parallel_kernel
+from ._jit import JIT_DISABLED, clear_stale_cache, kernel, parallel_kernel
 from .broadphase import find_pairs
 from .contacts import carry_impulses, count_dormant, prepare, store
 from .events import break_bodies, record_contacts, sense
@@ -242,3 +242,7 @@ def advance_parallel(
                 advance_world(
                     state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c], pairs
                 )
+
+
+if not JIT_DISABLED:
+    clear_stale_cache(advance.stats.cache_path)

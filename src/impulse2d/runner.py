@@ -33,7 +33,7 @@ from ._jit import JIT_DISABLED
 from .state import WorldState, grown
 from .workspace import Workspace
 
-_CHUNKS_PER_THREAD = 4  # more chunks than threads, so a thread that finishes early helps
+_CHUNKS_PER_THREAD = 8  # more chunks than threads, so a thread that finishes early helps
 _lock = threading.Lock()
 _threads_started = False  # this process has run a parallel kernel
 _fork_unsafe = False  # ... and was forked from one that ran them on OpenMP
@@ -146,9 +146,19 @@ class Runner:
         if serial:
             return pipeline.advance(*args)
         with _lock:
-            if not JIT_DISABLED:
+            if JIT_DISABLED:
+                pipeline.advance_parallel(*args)
+            else:
+                # Chunks are handed out one at a time, so a thread the machine pauses (the
+                # cores are shared) does not hold the others up with its fixed share.
+                old = numba.get_num_threads(), numba.get_parallel_chunksize()
                 numba.set_num_threads(threads)
-            pipeline.advance_parallel(*args)
+                numba.set_parallel_chunksize(1)
+                try:
+                    pipeline.advance_parallel(*args)
+                finally:
+                    numba.set_num_threads(old[0])
+                    numba.set_parallel_chunksize(old[1])
             _threads_started = True
         return int(plan[:, pipeline.PLAN_STATUS].max())
 

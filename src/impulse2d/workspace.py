@@ -46,16 +46,20 @@ X0, Y0, ANGLE0 = 10, 11, 12
 LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
 TERMS = 17
 
-NX, NY, RAX, RAY, RBX, RBY, SEP0 = 0, 1, 2, 3, 4, 5, 6
-NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION, MIXED_RESTITUTION = 7, 8, 9, 10
-APPROACH_SPEED, NORMAL_ACCEL = 11, 12  # normal velocity and acceleration at the step start
-BIAS_RATE, MASS_SCALE, IMPULSE_SCALE = 13, 14, 15  # the soft constraint
-NORMAL_J, TANGENT_J = 16, 17  # accumulated impulses (N s)
-STEP_J, MAX_J = 18, 19  # impulse over the step; largest solver increment (did it push?)
-IMPACT_V, BEFORE_V = 20, 21  # normal velocity when the point first pushed; before a sweep
-SHARED = 22  # 1.0 if the point's pair has another point
-RNA, RNB, RTA, RTB = 23, 24, 25, 26  # rA x n, rB x n, rA x t, rB x t
-IMA, IMB, IIA, IIB = 27, 28, 29, 30  # step inverse masses and moments of A and B
+# The columns a solver sweep reads come first, so a point's hot data spans three cache
+# lines, not four.
+NX, NY, SEP0 = 0, 1, 2  # normal (A to B) and separation at the step start (m)
+RNA, RNB, RTA, RTB = 3, 4, 5, 6  # rA x n, rB x n, rA x t, rB x t
+IMA, IMB, IIA, IIB = 7, 8, 9, 10  # step inverse masses and moments of A and B
+NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION = 11, 12, 13
+BIAS_RATE, MASS_SCALE, IMPULSE_SCALE = 14, 15, 16  # the soft constraint
+NORMAL_J, TANGENT_J = 17, 18  # accumulated impulses (N s)
+STEP_J, MAX_J = 19, 20  # impulse over the step; largest solver increment (did it push?)
+RAX, RAY, RBX, RBY = 21, 22, 23, 24  # anchors: offsets of the point from A's and B's centres
+MIXED_RESTITUTION = 25
+APPROACH_SPEED, NORMAL_ACCEL = 26, 27  # normal velocity and acceleration at the step start
+IMPACT_V, BEFORE_V = 28, 29  # normal velocity when the point first pushed; before a sweep
+SHARED = 30  # 1.0 if the point's pair has another point
 TARGET = 31  # restitution: the normal velocity to reach
 BOUNCE = 32  # restitution: 0 not bouncing, 1 alone in its pair, 2 sharing the pair's bounce
 POINT_F = 33
