@@ -118,14 +118,15 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once."""
     h = ctx[ctx_.H]
-    for _ in range(int(ctx[ctx_.SUBSTEPS])):
+    count = int(ctx[ctx_.SUBSTEPS])
+    for substep in range(count):
         integrate_velocities(body, w, terms)
         if ends.shape[0]:
             apply_springs(body, body_i, spring, ends, w, terms, h)
         warm_start(body, w, points, ids, n)
         solve(body, w, ctx, terms, points, ids, n, True)
         integrate_positions(body, w, terms, h)
-        solve(body, w, ctx, terms, points, ids, n, False)
+        solve(body, w, ctx, terms, points, ids, n, False, substep == count - 1)
     restitution(body, w, ctx, points, ids, n)
 
 

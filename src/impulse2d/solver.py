@@ -14,7 +14,8 @@ One step of ``dt`` is split into ``substeps`` of ``h = dt / substeps``; each sub
 After the substeps, ``restitution`` applies the bounce once.
 
 Speculative contacts (``separation > 0``) are hard: the closing speed is limited to
-``separation / h``, so a body arrives at the surface and no further. The separation of a
+``separation / h``, so a body arrives at the surface and no further (in the last relax
+pass of a step they are left to the next step, see ``solve``). The separation of a
 point during the step is its separation at the start plus ``J . dq``, the motion of the
 two bodies along the normal since then (rotation linearised: ``dq`` is small).
 
@@ -144,7 +145,7 @@ def watched(points, k) -> bool:
 
 
 @kernel
-def solve(body, w, ctx, terms, points, ids, n, use_bias) -> None:
+def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     """One Gauss-Seidel sweep over the points, in order: non-penetration, then friction
     within the cone of the normal impulse just found.
 
@@ -160,8 +161,14 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias) -> None:
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         s = current_separation(body, w, a, b, points, k, terms)
-        if s > 0.0:  # speculative: arrive at the surface, no further
-            bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0
+        if s > 0.0:
+            if last and points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0:
+                # The last relax pass, for a point that has not touched: limiting the
+                # approach here would be for the next step's first substep, which limits
+                # it itself before anything moves. Done here it slowed bodies before they
+                # arrived and counted as an impact, which restitution bounced in mid-air.
+                continue
+            bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0  # speculative: arrive, no more
         elif use_bias:
             mass_scale, impulse_scale = points[k, MASS_SCALE], points[k, IMPULSE_SCALE]
             bias = max(mass_scale * points[k, BIAS_RATE] * s, -push_speed)
@@ -196,7 +203,7 @@ def bounce_targets(ctx, points, ids, n) -> bool:
     threshold, h = ctx[ctx_.RESTITUTION_THRESHOLD], ctx[ctx_.H]
     for k in range(n):
         eligible = points[k, APPROACH_SPEED] < -threshold and points[k, MAX_J] > 0.0
-        points[k, BOUNCE] = 1.0 if eligible and points[k, MIXED_RESTITUTION] > 0.0 else 0.0
+        points[k, BOUNCE] = 1.0 if eligible else 0.0
     shared_any = False
     start = 0
     while start < n:  # a pair's points are neighbours
@@ -210,7 +217,9 @@ def bounce_targets(ctx, points, ids, n) -> bool:
             if points[k, BOUNCE] == 0.0:
                 continue
             e, accel = points[k, MIXED_RESTITUTION], points[k, NORMAL_ACCEL]
-            if bouncing > 1:
+            if bouncing == 1 and e == 0.0:  # the solver already stopped it
+                points[k, BOUNCE] = 0.0
+            elif bouncing > 1:
                 points[k, BOUNCE] = 2.0
                 points[k, TARGET] = e * min(points[k, IMPACT_V], 0.0)
                 shared_any = True
@@ -251,7 +260,10 @@ def restitution(body, w, ctx, points, ids, n) -> None:
     quarter more kinetic energy than it had. Its points use the normal velocity they had
     when they first pushed, and a few Gauss-Seidel sweeps share the bounce between them
     as a simultaneous impact would (solved one after the other, the first point would take
-    it all and set a flat-landing box spinning).
+    it all and set a flat-landing box spinning). That includes ``e = 0``: the sweeps bring
+    both points to rest along the normal, which the solver's own passes leave a few per
+    cent short of for an impact that happens within one step (two boxes meeting face to
+    face would part again instead of moving on together).
     """
     shared_any = bounce_targets(ctx, points, ids, n)
     for sweep in range(_SHARED_SWEEPS if shared_any else 1):
@@ -261,9 +273,11 @@ def restitution(body, w, ctx, points, ids, n) -> None:
                 continue
             a, b = ids[k, 0], ids[k, 1]
             vn = normal_velocity(body, w, a, b, points, k)
-            accumulated = points[k, NORMAL_J]
-            total = max(accumulated - points[k, NORMAL_MASS] * (vn + points[k, TARGET]), 0.0)
-            change = total - accumulated
-            points[k, NORMAL_J] = total
-            points[k, STEP_J] += change
+            # What the bounce may take back is what the point pushed over the step: a
+            # contact never pulls, over the step (not only over the last substep).
+            pushed = points[k, STEP_J]
+            total = max(pushed - points[k, NORMAL_MASS] * (vn + points[k, TARGET]), 0.0)
+            change = total - pushed
+            points[k, STEP_J] = total
+            points[k, NORMAL_J] = max(points[k, NORMAL_J] + change, 0.0)
             push(body, w, a, b, points, k, change, 0.0)
