@@ -85,11 +85,11 @@ def circle_circle(a, b, margin, tag):
         return 0, 0.0, 0.0, NO_POINT, NO_POINT, NO_POINT, NO_POINT
     ux, uy = b[SVX] - a[SVX], b[SVY] - a[SVY]
     closing = dx * ux + dy * uy  # d . u < 0: approaching
-    ahead = separation > 0.0 and closing < 0.0
+    speed2 = ux * ux + uy * uy  # 0 for speeds so small their square underflows
+    ahead = separation > 0.0 and closing < 0.0 and speed2 > 0.0
     tx, ty, length = dx, dy, dist
     if ahead:
         # Impact: u.u t^2 + 2 d.u t + (d.d - R^2) = 0, the first root; a miss: t = -d.u / u.u.
-        speed2 = ux * ux + uy * uy
         disc = closing * closing - speed2 * (dist * dist - reach * reach)
         when = (-closing - math.sqrt(disc)) / speed2 if disc >= 0.0 else -closing / speed2
         tx, ty = dx + ux * when, dy + uy * when

@@ -127,7 +127,7 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
         solve(body, w, ctx, terms, points, ids, n, True)
         integrate_positions(body, w, terms, h)
         solve(body, w, ctx, terms, points, ids, n, False, substep == count - 1)
-    restitution(body, w, ctx, points, ids, n)
+    restitution(body, w, ctx, terms, points, ids, n)
 
 
 @kernel

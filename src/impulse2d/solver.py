@@ -37,6 +37,7 @@ from .workspace import (
     BEFORE_V,
     BIAS_RATE,
     BOUNCE,
+    HALF_SPEC,
     IIA,
     IIB,
     IMA,
@@ -162,11 +163,15 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
         a, b = ids[k, 0], ids[k, 1]
         s = current_separation(body, w, a, b, points, k, terms)
         if s > 0.0:
-            if last and points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0:
-                # The last relax pass, for a point that has not touched: limiting the
+            untouched = points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0
+            if last and untouched and points[k, SHARED] == 0.0:
+                # The last relax pass, for a lone point that has not touched: limiting the
                 # approach here would be for the next step's first substep, which limits
-                # it itself before anything moves. Done here it slowed bodies before they
+                # it itself before anything moves. Done here it slowed a ball before it
                 # arrived and counted as an impact, which restitution bounced in mid-air.
+                # (A pair's several points are coupled through its bodies' turning: their
+                # one sweep per pass needs this second one, or a box landing fast on a
+                # face can sink a corner; Box2D keeps it for every point.)
                 continue
             bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0  # speculative: arrive, no more
         elif use_bias:
@@ -197,12 +202,23 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
 
 
 @kernel
-def bounce_targets(ctx, points, ids, n) -> bool:
+def bounce_targets(body, w, ctx, terms, points, ids, n) -> bool:
     """Which points bounce and the normal velocity each must reach; returns whether any
-    pair shares its bounce between points (see ``restitution``)."""
+    pair shares its bounce between points (see ``restitution``).
+
+    A point bounces if it closed faster than the threshold at the step start and pushed.
+    With ``e = 0`` it must also touch at the end of the step (within a tenth of the pair's
+    speculative distance): the points of a pair can push before its bodies meet, to limit
+    how fast they may close (see ``solve``), and bringing those to rest along the normal
+    would stop the bodies in mid-air. (With ``e > 0`` that early bounce keeps the speed
+    right, at the price of a position up to the gap off.)"""
     threshold, h = ctx[ctx_.RESTITUTION_THRESHOLD], ctx[ctx_.H]
     for k in range(n):
+        a, b = ids[k, 0], ids[k, 1]
         eligible = points[k, APPROACH_SPEED] < -threshold and points[k, MAX_J] > 0.0
+        if eligible and points[k, MIXED_RESTITUTION] == 0.0:
+            reach = 0.1 * (terms[a, HALF_SPEC] + terms[b, HALF_SPEC])
+            eligible = current_separation(body, w, a, b, points, k, terms) <= reach
         points[k, BOUNCE] = 1.0 if eligible else 0.0
     shared_any = False
     start = 0
@@ -234,7 +250,7 @@ def bounce_targets(ctx, points, ids, n) -> bool:
 
 
 @kernel
-def restitution(body, w, ctx, points, ids, n) -> None:
+def restitution(body, w, ctx, terms, points, ids, n) -> None:
     """Bounce: send each impacting point apart at ``e`` times its impact speed.
 
     Only points that approached faster than ``restitution_threshold`` at the start of the
@@ -265,7 +281,7 @@ def restitution(body, w, ctx, points, ids, n) -> None:
     cent short of for an impact that happens within one step (two boxes meeting face to
     face would part again instead of moving on together).
     """
-    shared_any = bounce_targets(ctx, points, ids, n)
+    shared_any = bounce_targets(body, w, ctx, terms, points, ids, n)
     for sweep in range(_SHARED_SWEEPS if shared_any else 1):
         for k in range(n):
             bounce = points[k, BOUNCE]

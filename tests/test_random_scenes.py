@@ -1,0 +1,362 @@
+"""Property tests over random scenes: a safety net for the engine as a whole.
+
+Each test draws scenes from ``scenes_random.scenes`` (1-12 circles and boxes, some fixed or
+kinematic, 0-3 planes, maybe a spring, gravity on or off, dt in [1/240, 1/30] s, 1-8
+substeps) and checks one property that must hold for every scene. Runs are derandomized
+(the same examples every run, no example database), so CI sees what a developer sees. A
+failing example is printed as a stand-alone ``impulse2d`` snippet (``scenes_random.code``).
+
+``test_batch_determinism.py`` checks determinism and batching on one hand-made scene;
+these tests check the same contracts, and physical laws, over many random ones.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, Phase, event, given, note, settings, target
+from hypothesis import strategies as st
+
+import impulse2d as p2
+import scenes_random as sr
+from impulse2d.runner import available_threads
+from impulse2d.state import ANGLE, MASS, MOMENT, VX, VY, W, X, Y
+
+STEPS = 100
+BASE = settings(
+    deadline=None,
+    derandomize=True,
+    database=None,
+    print_blob=False,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+
+
+def examples(n: int) -> settings:
+    return settings(BASE, max_examples=n)
+
+
+def built(scene: sr.Scene, **world_kwargs) -> p2.World:
+    """``sr.build``, with the scene noted as code for the report of a failing example."""
+    note(sr.code(scene))
+    return sr.build(scene, **world_kwargs)
+
+
+def run(world: p2.World, dt: float, n: int = STEPS) -> None:
+    for _ in range(n):
+        world.step(dt)
+
+
+def movers(world: p2.World) -> list:
+    """The circles and boxes that can be given a velocity (dynamic and kinematic)."""
+    return [b for b in world.bodies if not isinstance(b, p2.Plane) and not b.fixed]
+
+
+def make_worlds_differ(batch: p2.World) -> None:
+    """Give worlds 1.. of a batch other velocities (world 0 keeps its own, so it is not
+    woken) and switch the first body off in the last world."""
+    for i, body in enumerate(movers(batch)):
+        v, spin = np.array(body.velocity), np.array(body.angular_velocity)
+        for k in range(1, batch.batch_size):
+            v[k] = -0.5 * v[k] + (1.5 * k, 0.3 * i)
+            spin[k] = 0.5 * spin[k] - k
+        body.velocity, body.angular_velocity = v, spin
+    if batch.batch_size > 2 and batch.bodies:
+        mask = np.ones(batch.batch_size, dtype=bool)
+        mask[-1] = False
+        batch.bodies[0].enabled = mask
+
+
+def assert_same(a: dict[str, bytes], b: dict[str, bytes], what: str) -> None:
+    for name in a:
+        assert a[name] == b[name], f"{what}: state.{name} differs"
+
+
+def signed_distances(world: p2.World) -> np.ndarray:
+    """(dynamic bodies, planes) signed distance of each centre to each plane (m, > 0: in
+    front)."""
+    bodies = [b for b in world.bodies if not isinstance(b, p2.Plane) and not b.fixed]
+    planes = [b for b in world.bodies if isinstance(b, p2.Plane)]
+    if not bodies or not planes:
+        return np.zeros((0, 0))
+    centres = np.array([b.position for b in bodies])
+    return np.array([(centres - p.point) @ p.normal for p in planes]).T
+
+
+# -- 1. nothing non-finite ------------------------------------------------------------------------
+@examples(400)
+@given(scene=sr.scenes())
+def test_state_stays_finite(scene):
+    """After 100 steps of any moderate scene (speeds <= 20 m/s, mass ratio <= 100, stable
+    spring), every position, angle and velocity is finite, in the arrays and through the
+    public API."""
+    world = built(scene)
+    run(world, scene.dt)
+    body = world.state.body[0, : len(world.bodies)]
+    assert np.isfinite(body[:, [X, Y, ANGLE, VX, VY, W]]).all()
+    assert np.isfinite(sr.poses(world)).all()
+    e = world.energy()
+    assert math.isfinite(e.total)
+
+
+# -- 2. a batch steps each world as if alone ------------------------------------------------------
+@examples(250)
+@given(scene=sr.scenes(), replicate=st.booleans())
+def test_world_zero_of_a_batch_equals_the_single_world(scene, replicate):
+    """World 0 of a batch of 3 (made by ``replicate`` or by ``World(batch_size=3)``),
+    whose worlds 1 and 2 move differently (other velocities, a body switched off),
+    is bitwise the single world after 100 steps: every state array, and the poses read
+    through the public API. (On one thread: threads are the next test's subject, and a
+    parallel step per call is slow on a shared 2-core machine.)"""
+    single = built(scene)
+    if replicate:
+        batch = sr.build(scene, threads=1).replicate(3)
+    else:
+        batch = sr.build(scene, batch_size=3, threads=1)
+    make_worlds_differ(batch)
+    run(single, scene.dt)
+    run(batch, scene.dt)
+    assert_same(sr.world_arrays(batch, 0), sr.world_arrays(single), "world 0")
+    np.testing.assert_array_equal(sr.poses(batch)[:, 0], sr.poses(single))
+    if movers(single):
+        assert sr.world_arrays(batch, 1)["body"] != sr.world_arrays(batch, 0)["body"]
+
+
+@pytest.mark.skipif(available_threads() < 2, reason="needs 2 threads (NUMBA_NUM_THREADS)")
+@examples(120)
+@given(scene=sr.scenes(), steps=st.integers(0, 5))
+def test_batch_is_bitwise_the_same_on_one_and_two_threads(scene, steps):
+    """A batch of 4 different worlds, ``steps`` calls of ``step`` then
+    ``run_until_rest(dt, 100)``, on 1 thread and on 2 threads: bitwise the same state in
+    every world, and the same steps taken. (``run_until_rest`` makes one parallel call
+    for the whole run; a call per step is slow when the other core is busy.)"""
+    one, two = built(scene, batch_size=4, threads=1), sr.build(scene, batch_size=4, threads=2)
+    taken = []
+    for world in (one, two):
+        make_worlds_differ(world)
+        run(world, scene.dt, steps)
+        taken.append(world.run_until_rest(scene.dt, STEPS))
+    np.testing.assert_array_equal(taken[0], taken[1])
+    for k in range(4):
+        assert_same(sr.world_arrays(one, k), sr.world_arrays(two, k), f"world {k}")
+
+
+# -- 3. repeatability, snapshots ------------------------------------------------------------------
+@examples(150)
+@given(scene=sr.scenes(), k=st.integers(0, 60), m=st.integers(1, 60))
+def test_same_scene_twice_and_snapshot_restore_repeat_bitwise(scene, k, m):
+    """The same scene built and stepped twice is bitwise identical after ``k`` steps;
+    a snapshot taken then, ``m`` more steps, a restore and ``m`` steps again repeat the
+    first continuation bitwise at every step, and match the second build."""
+    first, second = built(scene), sr.build(scene)
+    run(first, scene.dt, k)
+    run(second, scene.dt, k)
+    assert_same(sr.world_arrays(first), sr.world_arrays(second), f"after {k} steps")
+    snap = first.snapshot()
+    before = sr.world_arrays(first)
+    continued = []
+    for _ in range(m):
+        first.step(scene.dt)
+        continued.append(sr.world_arrays(first))
+    first.restore(snap)
+    assert_same(sr.world_arrays(first), before, "restored")
+    for i in range(m):
+        first.step(scene.dt)
+        assert_same(sr.world_arrays(first), continued[i], f"step {i} after restore")
+    run(second, scene.dt, m)
+    assert_same(sr.world_arrays(second), continued[-1], "second build")
+
+
+# -- 4. run_until_rest is stepping one by one -----------------------------------------------------
+SETTLING = sr.scenes(motions=("dynamic", "fixed"), bin=True, gravity=True, max_speed=5.0)
+
+
+@examples(200)
+@given(scene=st.one_of(sr.scenes(), SETTLING), cap=st.integers(1, 2000))
+def test_run_until_rest_equals_stepping_one_by_one(scene, cap):
+    """``run_until_rest(dt, cap)`` takes ``n`` steps and ends bitwise where ``n`` calls of
+    ``step(dt)`` end; stepping one by one, the world is not at rest before step ``n`` and
+    is at rest after it when ``n < cap`` (the run stops exactly at rest)."""
+    ran, stepped = built(scene), sr.build(scene)
+    n = int(ran.run_until_rest(scene.dt, cap)[0])
+    assert 0 <= n <= cap
+    for i in range(n):
+        assert not stepped.at_rest(), f"at rest before step {i}, but the run took {n}"
+        stepped.step(scene.dt)
+    if n < cap:
+        assert stepped.at_rest() and ran.at_rest()
+    event("came to rest" if n < cap else "reached the cap")
+    assert_same(sr.world_arrays(ran), sr.world_arrays(stepped), f"after {n} steps")
+
+
+# -- 5. momentum ----------------------------------------------------------------------------------
+def momenta(world: p2.World) -> tuple[np.ndarray, float]:
+    """Total linear momentum (N s) and angular momentum about the origin (kg m^2/s) of
+    the bodies, all dynamic in the scenes that use this."""
+    body = world.state.body[0, : len(world.bodies)]
+    m, x, y, vx, vy, w = (body[:, c] for c in (MASS, X, Y, VX, VY, W))
+    linear = np.array([(m * vx).sum(), (m * vy).sum()])
+    return linear, float((m * (x * vy - y * vx)).sum() + (body[:, MOMENT] * w).sum())
+
+
+FREE = {"motions": ("dynamic",), "max_planes": 0, "gravity": False}
+
+
+@examples(300)
+@given(scene=sr.scenes(**FREE))
+def test_linear_momentum_is_conserved(scene):
+    """Without gravity, planes, fixed or kinematic bodies, drag or sleeping (springs and
+    friction allowed), total linear momentum after each of 100 steps equals the initial
+    one to 1e-9 relative (1e-9 N s absolute when it is smaller than 1 N s).
+
+    Sleeping is off: a body that falls asleep is stopped, and the momentum it carried
+    (below ``sleep_speed`` times its mass) is gone by design."""
+    world = built(scene, sleeping=False)
+    start = momenta(world)[0]
+    tolerance = 1e-9 * max(float(np.hypot(*start)), 1.0)
+    worst = 0.0
+    for _ in range(STEPS):
+        world.step(scene.dt)
+        worst = max(worst, float(np.hypot(*(momenta(world)[0] - start))))
+    target(worst / tolerance, label="linear momentum error / tolerance")
+    assert worst <= tolerance, f"linear momentum drifted by {worst:.3g} N s"
+
+
+@pytest.mark.xfail(
+    strict=False,
+    reason="angular momentum (issue 12): a contact's normal and anchors are fixed at the start "
+    "of the step, but its restitution impulse and its push out of an overlap act after the "
+    "bodies have moved, so in a glancing contact the equal and opposite impulses exert a torque",
+)
+@settings(examples(150), phases=[Phase.generate])  # a known failure: no time on shrinking
+@given(scene=sr.scenes(**FREE, friction=st.just(0.0)))
+def test_angular_momentum_is_conserved_without_friction(scene):
+    """As above with friction 0: angular momentum about the origin, sum of
+    ``m (x vy - y vx) + I w``, after each of 100 steps equals the initial one to 1e-6
+    relative (absolute 1e-6 kg m^2/s when it is smaller than 1)."""
+    world = built(scene, sleeping=False)
+    start = momenta(world)[1]
+    tolerance = 1e-6 * max(abs(start), 1.0)
+    worst = 0.0
+    for _ in range(STEPS):
+        world.step(scene.dt)
+        worst = max(worst, abs(momenta(world)[1] - start))
+    target(worst / tolerance, label="angular momentum error / tolerance")
+    assert worst <= tolerance, f"angular momentum drifted by {worst:.3g} kg m^2/s"
+
+
+# -- 6. energy ------------------------------------------------------------------------------------
+def kinetic(world: p2.World) -> float:
+    e = world.energy()
+    return e.kinetic_linear + e.kinetic_rotational
+
+
+@pytest.mark.xfail(
+    strict=False,
+    reason="energy gain (issue 12): friction in a two-point impact turns the solver's "
+    "uneven normal impulses into sliding speed (see the reproduction below)",
+)
+@examples(300)
+@given(scene=sr.scenes(motions=("dynamic", "fixed"), springs=False, gravity=False, overlap=0.0))
+def test_kinetic_energy_never_grows(scene):
+    """With restitution <= 1, no gravity, springs or kinematic bodies and no initial
+    overlap (fixed bodies, planes and any friction allowed), the kinetic energy after
+    each of 100 steps is at most 1 % above the initial one (+1e-12 J)."""
+    world = built(scene)
+    start = kinetic(world)
+    worst = 0.0
+    for _ in range(STEPS):
+        world.step(scene.dt)
+        worst = max(worst, kinetic(world) - start)
+    target(worst / (0.01 * start + 1e-12), label="energy gain / tolerance")
+    assert worst <= 0.01 * start + 1e-12, f"kinetic energy grew by {worst:.3g} J of {start:.3g}"
+
+
+@pytest.mark.xfail(strict=True, reason="energy gain (issue 12), as above")
+def test_a_box_hitting_a_fixed_box_face_on_gains_no_energy():
+    """The smallest scene the property test above found: a 1 m box at 2 m/s hits a fixed
+    box face on (restitution 1 by max mixing, friction 1); it leaves at 2 m/s, and also at
+    0.27 m/s sideways: 1.8 % more kinetic energy than it came with."""
+    world = p2.World(gravity=(0.0, 0.0), substeps=1)
+    box = world.add(p2.Box(position=(-2.0, 0.0), velocity=(2.0, 0.0), friction=1.0))
+    world.add(p2.Box(width=1.0, height=0.5, fixed=True, restitution=1.0, friction=1.0))
+    start = kinetic(world)
+    run(world, 0.03125, 40)
+    assert box.velocity[0] < 0.0  # it bounced
+    assert kinetic(world) <= 1.01 * start
+
+
+# -- 7. planes ------------------------------------------------------------------------------------
+@examples(400)
+@given(scene=sr.scenes(motions=("dynamic", "fixed"), min_planes=1, springs=False))
+def test_no_centre_gets_behind_a_plane(scene):
+    """Every dynamic body starts clear of every plane, its centre in front; after each of
+    100 steps (speeds <= 20 m/s, no springs, no kinematic bodies to squeeze it) its
+    centre is still strictly in front of every plane."""
+    world = built(scene)
+    assert (signed_distances(world) > 0.0).all()
+    closest = np.inf
+    for i in range(STEPS):
+        world.step(scene.dt)
+        closest = min(closest, float(signed_distances(world).min(initial=np.inf)))
+        assert closest > 0.0, f"step {i}: a centre is {-closest:.3g} m behind a plane"
+    if np.isfinite(closest):
+        target(-closest, label="closest approach of a centre to a plane")
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="a spring's pull within a step is not in the speculative contact distance (made "
+    "from the velocity at the start of the step), so the body passes the plane unopposed",
+)
+def test_a_spring_cannot_pull_a_centre_behind_a_plane():
+    """Found by the random scenes with springs: a stretched spring (at half its stability
+    limit, ``h^2 k w = 1``) accelerates a resting ball 0.1 m from a wall to 32 m/s in one
+    step; its centre must still end in front of the wall (it ends 0.4 m behind it)."""
+    world = p2.World(gravity=(0.0, 0.0), substeps=1)
+    ball = world.add(p2.Circle(position=(0.0, 0.0), radius=0.5, mass=1.0))
+    other = world.add(p2.Circle(position=(1.0, 0.0), radius=0.5, mass=1.0))
+    wall = world.add(p2.Plane(normal=(1.0, 0.0), point=(-0.6, 0.0)))
+    world.add(p2.Spring(ball, other, rest_length=3.0, stiffness=512.0))
+    world.step(1.0 / 32.0)
+    assert (ball.position - wall.point) @ wall.normal > 0.0
+
+
+# -- 8. sleeping ----------------------------------------------------------------------------------
+@examples(150)
+@given(scene=SETTLING, more=st.integers(1, 60))
+def test_a_world_at_rest_stays_bitwise_unchanged(scene, more):
+    """A world brought to rest (by ``run_until_rest``, or ``stop()`` if it does not come
+    to rest in 2000 steps) stays at rest with bitwise the same bodies and springs over
+    ``more`` further steps, alone and in a batch whose other world is set moving."""
+    world = built(scene, threads=1)
+    if world.run_until_rest(scene.dt, 2000)[0] == 2000 and not world.at_rest():
+        world.stop()
+        event("stopped")
+    assert world.at_rest()
+    batch = world.replicate(2)
+    make_worlds_differ(batch)
+    still = sr.world_arrays(world)
+    run(world, scene.dt, more)
+    run(batch, scene.dt, more)
+    assert world.at_rest() and batch.at_rest()[0]
+    for name in ("body", "body_i", "spring"):
+        assert sr.world_arrays(world)[name] == still[name], f"state.{name} changed at rest"
+        assert sr.world_arrays(batch, 0)[name] == still[name], f"batch: state.{name} changed"
+
+
+# -- the reproductions ----------------------------------------------------------------------------
+@examples(60)
+@given(scene=sr.scenes())
+def test_printed_reproduction_builds_the_same_world(scene):
+    """The snippet a failing example prints (``sr.code``) builds bitwise the world the
+    test built (``sr.build``), before and after 10 steps."""
+    namespace: dict = {}
+    exec(sr.code(scene), namespace)
+    printed, world = namespace["world"], built(scene)
+    assert_same(sr.world_arrays(printed), sr.world_arrays(world), "at the start")
+    run(printed, scene.dt, 10)
+    run(world, scene.dt, 10)
+    assert_same(sr.world_arrays(printed), sr.world_arrays(world), "after 10 steps")
