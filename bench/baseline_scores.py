@@ -8,8 +8,8 @@ or the episode's step limit). Prints mean ± standard deviation of the return, t
 difference scripted - random and the ratio scripted / random (only where random play
 scores above zero; pool's fouls make it negative).
 
-Run: ``python bench/baseline_scores.py`` (about two minutes on 2 cores; the 15-ball
-rack takes most of it), ``--quick`` for the first row only.
+Run: ``python bench/baseline_scores.py`` (about 10 seconds on 2 cores), ``--quick`` for
+the first row only.
 """
 
 from __future__ import annotations

@@ -6,10 +6,17 @@ engines, from ``bench/engine_rows.py``; this module runs them in one process and
 table with the two engines side by side and their ratio (always impulse2d / pymunk, so for
 a rate higher is better and for a time lower is better).
 
+impulse2d's step is compiled (numba): every ``World.step`` is one compiled call, and a
+batch is stepped on ``World.threads`` threads (default: every core numba sees, printed in
+the header; a single world always uses one). pymunk runs in this one process.
+
 * Pool break (16 balls, dt = 1/120, 1,200 steps) at 1 world and at ``--worlds`` worlds
   (default 1,024): world-steps/s and us per world-step, with impulse2d's default sleeping
-  on and, as a second row, with sleeping off (pymunk never sleeps). impulse2d steps the
-  whole batch at once (``World.replicate``); pymunk steps one ``Space`` per world.
+  on and, as a second row, with sleeping off (pymunk never sleeps). The timed loops make
+  one ``World.step`` call a step, as an RL loop does; one more single-world row runs the
+  whole break in one compiled call (``World.step(dt, steps=1200)``), so the table shows
+  both the per-call cost and the compiled run's. impulse2d steps the whole batch at once
+  (``World.replicate``); pymunk steps one ``Space`` per world.
 * Pool break, varied shots: the same batch, but every world plays its own shot (cue ball
   at y = offset_i, offsets uniform in +-1 cm, ``scenes.pool_cue_offsets``), the realistic
   RL case; impulse2d sleeping on (its default), pymunk sleeping off as elsewhere.
@@ -20,16 +27,17 @@ a rate higher is better and for a time lower is better).
   notes how the impulse2d time grows from the previous count (linear, not quadratic,
   scaling); impulse2d sleeping off and default substeps, pymunk defaults.
 
+The issue's targets are checked in the notes of their rows (``engine_rows.py`` lists them).
 Checks printed with the table: momentum of the pool break against the analytic
 ``P0 exp(-drag t)`` until the first cushion contact, every ball on the table and finite,
 the largest ball-ball overlap and cushion penetration seen during the break, that
 world 0 of the batch ends bitwise equal to the single world, and that worlds of the
 varied-shot batch end bitwise equal to single worlds built at their offsets.
 
-Run ``python bench/bench_engine.py`` (about 2.5 minutes on 2 cores, 100 s of it building the
-4,000-body impulse2d rain world: ``World.add`` costs O(capacity^2)), ``--quick`` for a smoke
-test, ``--positions`` for the final ball positions of both engines, ``--profile`` for a
-cProfile of pool steps.
+Run ``python bench/bench_engine.py`` (about a minute on 2 cores; building the 4,000-body
+rain world takes about a second, ``World.add`` ~0.3 ms a body), ``--quick`` for a smoke
+test, ``--positions`` for the final ball positions of both engines, ``--profile`` for the
+per-stage profile of the compiled step (``bench/profile_step.py``) instead of the table.
 """
 
 from __future__ import annotations
@@ -39,12 +47,16 @@ import os
 import platform
 import time
 
+import numba
 import numpy as np
+
+import impulse2d as p2
+from impulse2d.runner import available_threads
 
 # _pool_world and _pyramid_world are re-exported: bench_render.py and solver_choice.py import
 # these world builders from here.
 try:  # imported as part of the repo (``bench.bench_engine``) ...
-    from bench import engine_rows
+    from bench import engine_rows, profile_step
     from bench.engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
     from bench.engine_runs import (
         POOL_RESTITUTION_THRESHOLD,
@@ -52,7 +64,7 @@ try:  # imported as part of the repo (``bench.bench_engine``) ...
         PYRAMID_SLEEPING,
         PYRAMID_SUBSTEPS,
         RAIN_SLEEPING,
-        profile_pool,
+        _stage,
         set_progress,
     )
     from bench.engine_runs import _pool_world as _pool_world
@@ -61,6 +73,7 @@ try:  # imported as part of the repo (``bench.bench_engine``) ...
     from bench.scenes import pool_break, pyramid, rain, validate
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import engine_rows
+    import profile_step
     from engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
     from engine_runs import (
         POOL_RESTITUTION_THRESHOLD,
@@ -68,7 +81,7 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
         PYRAMID_SLEEPING,
         PYRAMID_SUBSTEPS,
         RAIN_SLEEPING,
-        profile_pool,
+        _stage,
         set_progress,
     )
     from engine_runs import _pool_world as _pool_world
@@ -96,7 +109,11 @@ def _parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--budget", type=float, default=BATCH_BUDGET_S, help="seconds per impulse2d batch run"
     )
     parser.add_argument("--positions", action="store_true", help="print final ball positions")
-    parser.add_argument("--profile", action="store_true", help="cProfile pool steps and exit")
+    parser.add_argument(
+        "--profile",
+        action="store_true",
+        help="per-stage profile of the compiled step (profile_step.py) and exit",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress output")
     args = parser.parse_args(argv)
     # The batch rows are keyed by world count beside the single-world rows, and one world
@@ -119,6 +136,7 @@ def _plan(args: argparse.Namespace) -> Plan:
         budget=args.budget,
         positions=args.positions,
         scene=scene,
+        threads=p2.World().threads,
         pool_steps=120 if args.quick else scene.steps,
         n_worlds=args.worlds or (64 if args.quick else DEFAULT_WORLDS),
         single_repeats=3 if args.quick else SINGLE_REPEATS,
@@ -140,10 +158,16 @@ def _print_setup(plan: Plan) -> None:
     pyr_steps, drift_steps, rain_repeats = plan.pyr_steps, plan.drift_steps, plan.rain_repeats
     print("impulse2d vs pymunk" + (" (--quick)" if plan.quick else ""))
     print(
-        f"python {platform.python_version()}, numpy {np.__version__}, pymunk {pymunk.version} "
-        f"(Chipmunk {pymunk.chipmunk_version[:5]}), {os.cpu_count()} CPUs"
+        f"python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}, "
+        f"pymunk {pymunk.version} (Chipmunk {pymunk.chipmunk_version[:5]}), {os.cpu_count()} "
+        f"CPUs, load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} at start"
     )
     print(source_version())
+    print(
+        f"threads: impulse2d steps a batch on {plan.threads} (World.threads, its default: "
+        f"every core numba sees; impulse2d.runner.available_threads() = "
+        f"{available_threads()}), a single world on one; pymunk: one process, one thread"
+    )
     print(scene.describe().replace(f"{scene.steps} steps", f"{pool_steps} steps"))
     print(
         f"  impulse2d: substeps={POOL_SUBSTEPS}, restitution_mixing='min', "
@@ -153,7 +177,7 @@ def _print_setup(plan: Plan) -> None:
     )
     print(
         "  pymunk: one Space per world, stepped world by world; 10 iterations, sleeping off; "
-        "impulse2d: the whole batch in one World.step"
+        "impulse2d: the whole batch in one World.step call a step (one compiled call)"
     )
     print(
         f"pyramids: dt=1/{1 / dt_pyr:.0f}, {pyr_steps} timed steps, drift of the top box after "
@@ -218,8 +242,8 @@ def main(argv: list[str] | None = None) -> None:
     args = _parse_args(argv)
     set_progress(not args.no_progress)
     if args.profile:
-        print(profile_pool(args.worlds or DEFAULT_WORLDS, start=30, steps=5))
-        print(profile_pool(1, start=30, steps=100))
+        worlds = args.worlds or (64 if args.quick else DEFAULT_WORLDS)
+        profile_step.run(worlds, args.quick, _stage)
         return
 
     t_start = time.perf_counter()
@@ -228,6 +252,7 @@ def main(argv: list[str] | None = None) -> None:
     rows: list[Row] = []
     imp: Runs = {}  # filled by the pool sections, read by the later ones
     pm1 = engine_rows.pool_single_world(plan, imp, rows)
+    engine_rows.pool_one_call(plan, imp, pm1, rows)
     pmN = engine_rows.pool_batch(plan, imp, rows)
     engine_rows.pool_one_substep(plan, pmN, rows)
     engine_rows.pool_batch_matches_single(plan, imp, rows)
@@ -236,7 +261,10 @@ def main(argv: list[str] | None = None) -> None:
     engine_rows.pyramids(plan, rows)
     engine_rows.rains(plan, rows)
     _print_results(plan, rows, imp, pm1)
-    print(f"\ntotal wall time {time.perf_counter() - t_start:.1f} s")
+    print(
+        f"\ntotal wall time {time.perf_counter() - t_start:.1f} s; load average "
+        f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} at end"
+    )
 
 
 if __name__ == "__main__":

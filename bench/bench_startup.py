@@ -6,7 +6,7 @@ directory (``NUMBA_CACHE_DIR``), which is what the first import after installing
 step it (one world, then a batch, which has kernels of its own), then make and step
 ``gym.make("Pool2D-v0")``. The peer is pymunk, which needs no compiling.
 
-    python bench/bench_startup.py        # about a minute: the cold compile dominates
+    python bench/bench_startup.py        # about half a minute: the cold compile dominates
 """
 
 from __future__ import annotations

@@ -3,16 +3,19 @@
 Builds the shared scenes of ``bench/scenes.py`` (pool break, box pyramid, rain) as impulse2d
 worlds, times them the way ``bench/pymunk_peer.py`` times pymunk, and replays the pool break
 untimed for what the timing cannot measure: momentum against ``P0 exp(-drag t)``, energy
-gain (impulse2d, and pymunk for comparison), overlaps and penetration. ``profile_pool`` is
-the ``--profile`` report. ``bench_engine.main`` runs these and prints the table.
+gain (impulse2d, and pymunk for comparison), overlaps and penetration. ``bench_engine.main``
+runs these and prints the table; ``bench/profile_step.py`` (``--profile``) reuses the world
+builders.
+
+Every ``World.step`` is one compiled call (``impulse2d.pipeline``). The timed loops call it
+once per step from Python, as an RL loop or a game does, except
+:func:`pool_break_one_call`, which passes ``steps=`` and runs the whole break in one call.
+A batch is stepped on ``World.threads`` threads (default: every core numba sees).
 """
 
 from __future__ import annotations
 
-import cProfile
-import io
 import math
-import pstats
 import statistics
 import sys
 import time
@@ -124,39 +127,19 @@ def _velocities(world: p2.World, indices: list[int]) -> np.ndarray:
     return np.array([bodies[i].velocity for i in indices], dtype=np.float64)
 
 
-def pool_break_impulse2d(
-    n_worlds: int = 1,
-    steps: int = 1200,
+def pool_batch_world(
+    n_worlds: int,
     substeps: int = POOL_SUBSTEPS,
     sleeping: bool = True,
-    *,
-    budget_s: float | None = None,
     cue_y_offsets: np.ndarray | None = None,
-) -> dict:
-    """Time ``n_worlds`` impulse2d pool-break worlds, stepped as one batch, for ``steps`` steps.
-
-    A warm-up step runs first on a separate world (a batch of two for a batch run), so
-    first-call costs stay out of the timing; the timed world starts fresh, as in pymunk.
-    With ``budget_s``, stepping stops once that much time has passed (a prefix of the break
-    is timed); ``steps`` in the result says how many steps were done.
-
-    With ``cue_y_offsets`` (``n_worlds`` values, m; see :func:`scenes.pool_cue_offsets`)
-    every world plays its own shot: one world is built, replicated, and the cue ball's
+) -> tuple[p2.World, list[int]]:
+    """The pool break in ``n_worlds`` worlds (one world, or a ``replicate``d batch) and the
+    ``bodies`` indices of its balls. With ``cue_y_offsets`` (``n_worlds`` values, m; see
+    :func:`scenes.pool_cue_offsets`) every world plays its own shot: the cue ball's
     per-world start ``(x, cue_y_offsets[i])`` is set with the batch setter
-    ``batch.bodies[cue].position = positions`` (shape (n_worlds, 2)).
-
-    Returns ``world_steps_per_s``, ``seconds``, ``steps``, ``step_us`` (duration of every
-    step, single world only, else None), ``final_positions`` of world 0 (n_balls, 2),
-    ``final_batch`` (n_balls, n_worlds, 2; batch only, else None), ``worlds_identical``
-    (every world of the batch ends exactly as world 0) and ``finite`` (every world).
-    """
+    ``batch.bodies[cue].position = positions`` (shape (n_worlds, 2))."""
     scene = pool_break()
     validate(scene)
-    dt = scene.dt
-
-    warm, _, _ = _pool_world(scene, substeps, sleeping)
-    (warm.replicate(2) if n_worlds > 1 else warm).step(dt)
-
     world, balls, _ = _pool_world(scene, substeps, sleeping)
     if n_worlds > 1:
         world = world.replicate(n_worlds)
@@ -169,29 +152,62 @@ def pool_break_impulse2d(
         start = np.repeat(scene.positions[:1], n_worlds, axis=0)  # (n_worlds, 2)
         start[:, 1] = offsets
         world.bodies[balls[0]].position = start if n_worlds > 1 else start[0]
+    return world, balls
 
-    step = world.step
-    clock = time.perf_counter
-    step_us = None
-    if n_worlds == 1:
+
+def _timed_steps(
+    world: p2.World, dt: float, steps: int, budget_s: float | None
+) -> tuple[int, float, np.ndarray | None]:
+    """Step ``world`` ``steps`` times, one ``World.step`` call a step; returns the steps
+    done, the seconds and, for a single world, the duration of every step (us). A batch
+    stops early once ``budget_s`` has passed (a prefix of the break is timed)."""
+    step, clock = world.step, time.perf_counter
+    if world.batch_size == 1:
         # Per-step durations for the mean/median/max; a clock read costs ~0.1 us a step.
         stamps = np.empty(steps + 1)
         stamps[0] = clock()
         for k in range(steps):
             step(dt)
             stamps[k + 1] = clock()
-        done = steps
-        seconds = float(stamps[-1] - stamps[0])
-        step_us = 1e6 * np.diff(stamps)
-    else:
-        done = 0
-        t0 = clock()
-        for _ in _progress(range(steps), steps, f"impulse2d {n_worlds} worlds"):
-            step(dt)
-            done += 1
-            if budget_s is not None and clock() - t0 > budget_s:
-                break
-        seconds = clock() - t0
+        return steps, float(stamps[-1] - stamps[0]), 1e6 * np.diff(stamps)
+    done = 0
+    t0 = clock()
+    for _ in _progress(range(steps), steps, f"impulse2d {world.batch_size} worlds"):
+        step(dt)
+        done += 1
+        if budget_s is not None and clock() - t0 > budget_s:
+            break
+    return done, clock() - t0, None
+
+
+def pool_break_impulse2d(
+    n_worlds: int = 1,
+    steps: int = 1200,
+    substeps: int = POOL_SUBSTEPS,
+    sleeping: bool = True,
+    *,
+    budget_s: float | None = None,
+    cue_y_offsets: np.ndarray | None = None,
+) -> dict:
+    """Time ``n_worlds`` impulse2d pool-break worlds, stepped as one batch, for ``steps`` steps
+    (one ``World.step`` call a step; see :func:`pool_batch_world` for ``cue_y_offsets``).
+
+    A warm-up step runs first on a separate world (a batch of two for a batch run), so
+    first-call costs stay out of the timing; the timed world starts fresh, as in pymunk.
+    With ``budget_s``, stepping stops once that much time has passed (a prefix of the break
+    is timed); ``steps`` in the result says how many steps were done.
+
+    Returns ``world_steps_per_s``, ``seconds``, ``steps``, ``step_us`` (duration of every
+    step, single world only, else None), ``final_positions`` of world 0 (n_balls, 2),
+    ``final_batch`` (n_balls, n_worlds, 2; batch only, else None), ``worlds_identical``
+    (every world of the batch ends exactly as world 0), ``finite`` (every world) and
+    ``threads`` (``World.threads`` of the timed world).
+    """
+    dt = pool_break().dt
+    warm, _ = pool_batch_world(2 if n_worlds > 1 else 1, substeps, sleeping)
+    warm.step(dt)
+    world, balls = pool_batch_world(n_worlds, substeps, sleeping, cue_y_offsets)
+    done, seconds, step_us = _timed_steps(world, dt, steps, budget_s)
 
     final = _positions(world, balls)  # (n, 2) or (n, B, 2)
     finite = bool(np.all(np.isfinite(final)))
@@ -208,6 +224,33 @@ def pool_break_impulse2d(
         "final_batch": batch,
         "worlds_identical": identical,
         "finite": finite,
+        "threads": world.threads,
+    }
+
+
+def pool_break_one_call(
+    steps: int = 1200, substeps: int = POOL_SUBSTEPS, sleeping: bool = True, *, repeats: int = 5
+) -> dict:
+    """Time the single-world pool break run in one compiled call, ``World.step(dt,
+    steps=steps)``, on ``repeats`` fresh worlds after a warm-up call on another; the run of
+    median time. Returns ``world_steps_per_s``, ``seconds``, ``steps``, ``final_positions``
+    and ``repeats_identical`` (every repeat ended in the same state)."""
+    dt = pool_break().dt
+    warm, _ = pool_batch_world(1, substeps, sleeping)
+    warm.step(dt, steps=2)
+    runs = []
+    for _ in range(repeats):
+        world, balls = pool_batch_world(1, substeps, sleeping)
+        t0 = time.perf_counter()
+        world.step(dt, steps=steps)
+        runs.append((time.perf_counter() - t0, _positions(world, balls)))
+    seconds, final = sorted(runs, key=lambda r: r[0])[repeats // 2]
+    return {
+        "world_steps_per_s": steps / seconds,
+        "seconds": seconds,
+        "steps": steps,
+        "final_positions": final,
+        "repeats_identical": all(np.array_equal(r[1], runs[0][1]) for r in runs),
     }
 
 
@@ -448,24 +491,3 @@ def rain_impulse2d(
         "finite": bool(np.all(np.isfinite(pos))),
         "repeats_identical": all(np.array_equal(f, finals[0]) for f in finals),
     }
-
-
-# -- profile ---------------------------------------------------------------------------------
-def profile_pool(n_worlds: int, start: int, steps: int, top: int = 15) -> str:
-    """cProfile of ``steps`` pool steps of ``n_worlds`` worlds after ``start`` unprofiled steps,
-    sorted by tottime; returns the report text."""
-    scene = pool_break()
-    world, _, _ = _pool_world(scene, POOL_SUBSTEPS, True)
-    if n_worlds > 1:
-        world = world.replicate(n_worlds)
-    for _ in range(start):
-        world.step(scene.dt)
-    profiler = cProfile.Profile()
-    profiler.enable()
-    for _ in range(steps):
-        world.step(scene.dt)
-    profiler.disable()
-    out = io.StringIO()
-    pstats.Stats(profiler, stream=out).sort_stats("tottime").print_stats(top)
-    head = f"cProfile: {n_worlds} world(s), {steps} step(s) from step {start}, sleeping on\n"
-    return head + out.getvalue()

@@ -10,9 +10,10 @@ iterations. This prints, for substeps 1, 2, 4 and 8 and for pymunk:
 * the pool break: the deepest ball-ball overlap seen during the break (a solver that
   cannot push the rack apart in time lets balls sink into each other), the largest
   kinetic energy relative to what drag alone leaves (must not exceed 1), and
-  world-steps/s at 256 worlds.
+  world-steps/s at 256 worlds (a ``World.step`` call a step, on the batch's default
+  threads: every core numba sees).
 
-Run: ``python bench/solver_choice.py`` (about two minutes).
+Run: ``python bench/solver_choice.py`` (a few seconds).
 """
 
 from __future__ import annotations

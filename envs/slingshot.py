@@ -70,6 +70,7 @@ class SlingshotGame(ShotGame):
         slots = MAX_PIGS + MAX_BLOCKS
         self.max_health = np.ones((batch_size, slots))
         self._in_level = np.zeros((batch_size, slots), dtype=bool)
+        self._built: dict[tuple, tuple] = {}  # hand-made levels, built once
         self.material = np.zeros((batch_size, slots), np.int64)  # blocks only
         self.birds_left = np.zeros(batch_size, np.int64)
         self._targets = np.array([body.slot for body in (*self.pigs, *self.blocks)])
@@ -139,37 +140,50 @@ class SlingshotGame(ShotGame):
 
     def _new_episode(self, world: int, rng: np.random.Generator) -> None:
         level = self._pick_level(rng)
+        key = (level.name, tuple(level.blocks), tuple(level.pigs))
+        built = self._built.get(key)
+        if built is None:
+            built = self._build_level(level)
+            if level.name in _levels.HANDMADE:  # a few fixed levels: build each once
+                self._built[key] = built
+        snapshot, max_health, in_level, material = built
+        self.world.restore(snapshot, worlds=[world])
+        self.max_health[world], self._in_level[world] = max_health, in_level
+        self.material[world] = material
+        self.birds_left[world] = self.num_birds
+
+    def _build_level(self, level: _levels.Level) -> tuple:
+        """The template set up for ``level``: its snapshot, and the per-slot max health,
+        in-level flags and materials. A function of the level alone."""
         bird, pigs, blocks = self._template_bodies
+        slots = MAX_PIGS + MAX_BLOCKS
+        max_health, in_level = np.ones(slots), np.zeros(slots, dtype=bool)
+        material = np.zeros(slots, np.int64)
         _park(bird)
-        self.max_health[world] = 1.0
-        self._in_level[world] = False
-        self.material[world] = 0
         for i, pig in enumerate(pigs):
             if i < len(level.pigs):
                 pig.position = level.pigs[i]
                 pig.enabled = True
-                pig.health = self.max_health[world, i] = PIG_HEALTH
-                self._in_level[world, i] = True
+                pig.health = max_health[i] = PIG_HEALTH
+                in_level[i] = True
             else:
                 _park(pig)
         for i, block in enumerate(blocks):
             if i < len(level.blocks):
-                x, y, width, height, material = level.blocks[i]
-                kind = MATERIALS[material]
+                x, y, width, height, kind_index = level.blocks[i]
+                kind = MATERIALS[kind_index]
                 block.width, block.height = width, height
                 block.mass = kind.density * width * height
                 block.friction, block.restitution = kind.friction, kind.restitution
                 block.position = (x, y)
                 block.enabled = True
                 k = MAX_PIGS + i
-                block.health = self.max_health[world, k] = kind.health
-                self._in_level[world, k] = True
-                self.material[world, k] = material
+                block.health = max_health[k] = kind.health
+                in_level[k], material[k] = True, kind_index
             else:
                 _park(block)
         self.template.stop()  # everything asleep: the level stands as built until hit
-        self._install(world)
-        self.birds_left[world] = self.num_birds
+        return self.template.snapshot(), max_health, in_level, material
 
     # -- a shot ------------------------------------------------------------------------------------
     def _launch(self, worlds: np.ndarray, actions: np.ndarray) -> None:

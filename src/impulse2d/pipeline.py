@@ -44,6 +44,7 @@ from .solver import restitution, solve, warm_start
 from .state import (
     AWAKE,
     CONTACT_COUNT,
+    DYNAMIC,
     ENABLED,
     FX,
     FY,
@@ -56,7 +57,7 @@ from .state import (
     VY,
     W,
 )
-from .workspace import views
+from .workspace import MOVING, views
 
 # A run's plan: one row per world it steps.
 PLAN_WORLD, PLAN_STEPS, PLAN_STATUS, NEED_PAIRS, NEED_POINTS, BAD_SPRING = range(6)
@@ -99,6 +100,10 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
     when the scratch rows are too small (the plan row says how much is needed)."""
     terms, points, ids = scratch[0], scratch[1], scratch[3]
     pairs, sorted_pairs, buckets = scratch[5], scratch[6], scratch[7]
+    sleeping = False  # nothing asleep (a rain with sleeping off): nothing to wake
+    for i in range(shapes.shape[0]):
+        dynamic_off = shapes[i, 1] == DYNAMIC and shapes[i, 0] != PLANE and terms[i, MOVING] == 0.0
+        sleeping |= dynamic_off and body_i[w, i, ENABLED] == 1
     while True:
         n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, sorted_pairs, buckets)
         if n_pairs > pairs.shape[0]:
@@ -108,7 +113,7 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
         if n > points.shape[0]:
             plan_row[NEED_POINTS] = n
             return -1
-        if not wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
+        if not sleeping or not wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
             return n
         body_terms(body, body_i, shapes, w, ctx, terms)
 
