@@ -92,6 +92,19 @@ def batched(
     raise ValueError(f"{name} must have shape {want}, got shape {array.shape}")
 
 
+def detached(
+    name: str, value: Any, tail: tuple[int, ...], rule: str | None = None, finite: bool = True
+) -> Any:
+    """A value kept by an object outside a world: one value of shape ``tail`` (returned as
+    a float when ``tail`` is ``()``) or one per world, ``(batch, *tail)``."""
+    array = real_array(name, value, finite=finite)
+    if array.shape != tail and array.shape[1:] != tail:
+        raise ValueError(f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}")
+    if rule:
+        batched_rule(name, array, rule)
+    return float(array) if array.shape == () else array
+
+
 def batched_rule(name: str, array: np.ndarray, rule: str) -> None:
     """Check ``array`` (already finite) against ``'> 0'`` or ``'>= 0'``, naming the parameter."""
     bad = array <= 0.0 if rule == "> 0" else array < 0.0

@@ -9,12 +9,12 @@ is a box with ``outside=True``.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from . import _checks
-from .shapes import per_world
+from .shapes import Part, per_world
 from .state import (
     BOX,
     CIRCLE,
@@ -27,9 +27,6 @@ from .state import (
     SENSOR_X,
     SENSOR_Y,
 )
-
-if TYPE_CHECKING:
-    from .world import World
 
 # name -> (columns of state.sensor, shape of one value, rule, stored = value * scale)
 _COLUMNS: dict[str, tuple[list[int], tuple[int, ...], str | None, float]] = {
@@ -45,7 +42,7 @@ def _property(name: str, doc: str) -> property:
     return property(lambda self: self._get(name), lambda self, v: self._set(name, v), doc=doc)
 
 
-class Sensor:
+class Sensor(Part):
     """A circle of ``radius`` or a ``width`` x ``height`` box (m) at ``position``, rotated
     by ``angle`` (rad), that reports the bodies whose centre enters it (see the module
     docstring). Give either ``radius`` or both ``width`` and ``height``. ``outside`` and
@@ -78,11 +75,9 @@ class Sensor:
         for name, flag in (("outside", outside), ("disables", disables)):
             if not isinstance(flag, (bool, np.bool_)):
                 raise ValueError(f"{name} must be a bool, got {flag!r}")
+        super().__init__()
         self.kind = BOX if box else CIRCLE
         self.flags = (SENSE_OUTSIDE if outside else 0) | (SENSE_DISABLES if disables else 0)
-        self._world: World | None = None
-        self._slot = -1
-        self._values: dict[str, Any] = {"angle": 0.0}
         self.position, self.angle = position, angle
         if box:
             self.width, self.height = width, height
@@ -98,15 +93,6 @@ class Sensor:
     def disables(self) -> bool:
         """True if a body that triggers the sensor is switched off."""
         return bool(self.flags & SENSE_DISABLES)
-
-    @property
-    def world(self) -> World | None:
-        return self._world
-
-    @property
-    def slot(self) -> int:
-        """Index of this sensor in its world's sensor arrays (what ``body.sensed`` holds)."""
-        return self._slot
 
     def _check_name(self, name: str) -> None:
         circle_only, box_only = name == "radius", name in ("width", "height")
@@ -126,20 +112,13 @@ class Sensor:
     def _set(self, name: str, value: Any) -> None:
         self._check_name(name)
         columns, tail, rule, scale = _COLUMNS[name]
-        batch = 1 if self._world is None else self._world.batch_size
         if self._world is None:
-            array = _checks.real_array(name, value)
-            if array.shape != tail and array.shape[1:] != tail:
-                raise ValueError(
-                    f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}"
-                )
-        else:
-            array = _checks.batched(name, value, batch, tail)
+            self._values[name] = _checks.detached(name, value, tail, rule)
+            return
+        batch = self._world.batch_size
+        array = _checks.batched(name, value, batch, tail)
         if rule:
             _checks.batched_rule(name, array, rule)
-        if self._world is None:
-            self._values[name] = float(array) if array.shape == () else array
-            return
         self._world.state.sensor[:, self._slot, columns] = (array * scale).reshape(batch, -1)
 
     @property

@@ -108,12 +108,7 @@ class _Field:
     def validate(self, obj: Any, value: Any, batch: int | None) -> np.ndarray:
         """The value checked against the field's rules; (B, *tail) when ``batch`` is given."""
         if batch is None:
-            array = _checks.real_array(self.name, value, finite=self.finite)
-            if array.shape != self.tail and array.shape[1:] != self.tail:
-                want = self.tail
-                raise ValueError(
-                    f"{self.name} must have shape {want} or (batch, *{want}), got {array.shape}"
-                )
+            array = np.asarray(_checks.detached(self.name, value, self.tail, finite=self.finite))
         else:
             array = _checks.batched(self.name, value, batch, self.tail, finite=self.finite)
         if self.rule:
@@ -135,13 +130,9 @@ class _Field:
             edit.rebuild_mass(world, obj._slot)
 
 
-class _Slot:
-    """What Circle, Box and Plane share: binding to a world slot, validation."""
-
-    _kind: int = -1
-    _motion: int = FIXED
-    _fixed_names: tuple[str, ...] = ()
-    _saved: tuple[str, ...] = ()  # what a detached object keeps (see World.remove)
+class Part:
+    """What every view of a slot has (bodies, planes, springs, sensors): the world it is
+    in and its slot there, and, while it is in none, the values it keeps itself."""
 
     def __init__(self) -> None:
         self._world: World | None = None
@@ -157,6 +148,15 @@ class _Slot:
     def slot(self) -> int:
         """Index of this object's slot in its world's arrays (-1 when not in a world)."""
         return self._slot
+
+
+class _Slot(Part):
+    """What Circle, Box and Plane share: a body slot, validation."""
+
+    _kind: int = -1
+    _motion: int = FIXED
+    _fixed_names: tuple[str, ...] = ()
+    _saved: tuple[str, ...] = ()  # what a detached object keeps (see World.remove)
 
     def _check_settable(self, name: str) -> None:
         if name in self._fixed_names:

@@ -87,28 +87,28 @@ def push(body, w, a, b, points, k, normal, tangent) -> None:
 
 
 @inline
-def normal_velocity(body, w, a, b, points, k) -> float:
-    """``J_n . V``: the relative velocity of the point along the normal (< 0: closing)."""
-    nx, ny = points[k, NX], points[k, NY]
+def _along(body, w, a, b, dx, dy, cross_a, cross_b) -> float:
+    """``J . V`` for the direction ``(dx, dy)`` with the Jacobian's cross terms
+    ``rA x d`` and ``rB x d``: the relative velocity of the point along it."""
     return (
-        -(nx * body[w, a, VX] + ny * body[w, a, VY])
-        - points[k, RNA] * body[w, a, W]
-        + nx * body[w, b, VX]
-        + ny * body[w, b, VY]
-        + points[k, RNB] * body[w, b, W]
+        -(dx * body[w, a, VX] + dy * body[w, a, VY])
+        - cross_a * body[w, a, W]
+        + dx * body[w, b, VX]
+        + dy * body[w, b, VY]
+        + cross_b * body[w, b, W]
     )
 
 
 @inline
+def normal_velocity(body, w, a, b, points, k) -> float:
+    """The relative velocity of point ``k`` along the normal (< 0: closing)."""
+    return _along(body, w, a, b, points[k, NX], points[k, NY], points[k, RNA], points[k, RNB])
+
+
+@inline
 def tangent_velocity(body, w, a, b, points, k) -> float:
-    tx, ty = points[k, NY], -points[k, NX]
-    return (
-        -(tx * body[w, a, VX] + ty * body[w, a, VY])
-        - points[k, RTA] * body[w, a, W]
-        + tx * body[w, b, VX]
-        + ty * body[w, b, VY]
-        + points[k, RTB] * body[w, b, W]
-    )
+    """... and along the tangent ``t = (n_y, -n_x)``."""
+    return _along(body, w, a, b, points[k, NY], -points[k, NX], points[k, RTA], points[k, RTB])
 
 
 @inline

@@ -14,12 +14,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import _checks, edit
-from .shapes import per_world
+from .shapes import Part, per_world
 from .state import ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, DAMPING, REST_LENGTH, STIFFNESS
 
 if TYPE_CHECKING:
     from .shapes import Body
-    from .world import World
 
 # name -> (columns of state.spring, shape of one value, rule)
 _COLUMNS: dict[str, tuple[list[int], tuple[int, ...], str | None]] = {
@@ -35,7 +34,7 @@ def _property(name: str, doc: str) -> property:
     return property(lambda self: self._get(name), lambda self, v: self._set(name, v), doc=doc)
 
 
-class Spring:
+class Spring(Part):
     """A damped spring joining ``anchor1`` on ``body1`` to ``anchor2`` on ``body2``.
 
     ``rest_length`` (m, >= 0; default: the anchors' distance when the spring is added),
@@ -72,24 +71,13 @@ class Spring:
                 "body1 and body2 must be different bodies (a spring from a body "
                 "to itself does nothing)"
             )
+        super().__init__()
         self.body1, self.body2 = body1, body2
-        self._world: World | None = None
-        self._slot = -1
-        self._values: dict[str, Any] = {"rest_length": None}
+        self._values["rest_length"] = None
         if rest_length is not None:
             self.rest_length = rest_length
         self.stiffness, self.damping = stiffness, damping
         self.anchor1, self.anchor2 = anchor1, anchor2
-
-    @property
-    def world(self) -> World | None:
-        """The world this spring is in, or None."""
-        return self._world
-
-    @property
-    def slot(self) -> int:
-        """Index of this spring's slot in its world's arrays (-1 when not in a world)."""
-        return self._slot
 
     def _get(self, name: str) -> Any:
         if self._world is None:
@@ -102,14 +90,7 @@ class Spring:
     def _set(self, name: str, value: Any) -> None:
         columns, tail, rule = _COLUMNS[name]
         if self._world is None:
-            array = _checks.real_array(name, value)
-            if array.shape != tail and array.shape[1:] != tail:
-                raise ValueError(
-                    f"{name} must have shape {tail} or (batch, *{tail}), got {array.shape}"
-                )
-            if rule:
-                _checks.batched_rule(name, array, rule)
-            self._values[name] = float(array) if array.shape == () else array
+            self._values[name] = _checks.detached(name, value, tail, rule)
             return
         world = self._world
         array = _checks.batched(name, value, world.batch_size, tail)
