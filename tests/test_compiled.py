@@ -33,3 +33,52 @@ def test_compiled_and_plain_python_agree_bitwise(tmp_path):
     assert compiled["world_i"][:, 0].min() > 0  # contact points in every world
     assert (compiled["body_i"][:, :, 0] == 0).any()  # something was switched off
     assert compiled["steps"].min() > 0
+
+
+def _package_copy(tmp_path: Path) -> Path:
+    import shutil
+
+    from impulse2d import _jit
+
+    copy = tmp_path / "package"
+    shutil.copytree(_jit._PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "demo"))
+    return copy
+
+
+def test_kernel_digest_follows_kernel_sources_only(tmp_path):
+    """numba checks a cached kernel against its own file only, so the package stamps its
+    cache: an edit to a module kernels are compiled from changes the stamp, an edit to a
+    facade does not (so it costs no recompile)."""
+    from impulse2d._jit import kernel_sources_digest
+
+    package = _package_copy(tmp_path)
+    before = kernel_sources_digest(package)
+    with open(package / "sandbox.py", "a") as facade:
+        facade.write("# an edit outside the kernels\n")
+    assert kernel_sources_digest(package) == before
+    for module in ("solver.py", "state.py", "settings.py"):
+        edited = _package_copy(tmp_path / module)
+        with open(edited / module, "a") as source:
+            source.write("# an edit the kernels are compiled from\n")
+        assert kernel_sources_digest(edited) != before, module
+
+
+def test_stale_cache_is_emptied_and_current_cache_kept(tmp_path, monkeypatch):
+    from impulse2d import _jit
+
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    stale = cache / "solver.relax-1.py311.nbi"
+    stale.write_bytes(b"compiled from other sources")
+    _jit.clear_stale_cache(str(cache))
+    assert not stale.exists()
+    assert (cache / "kernels.sha256").read_text() == _jit.kernel_sources_digest(_jit._PACKAGE)
+    current = cache / "solver.relax-1.py311.nbc"
+    current.write_bytes(b"compiled from these sources")
+    _jit.clear_stale_cache(str(cache))
+    assert current.exists()
+    # The same sources edited: the stamp no longer matches and the cache goes.
+    monkeypatch.setattr(_jit, "kernel_sources_digest", lambda package: "another digest")
+    _jit.clear_stale_cache(str(cache))
+    assert not current.exists()
+    assert (cache / "kernels.sha256").read_text() == "another digest"

@@ -3,7 +3,7 @@
 Runs a few of the tutorial's milestones headless and prints what they measure: a ball
 bouncing with its energy readout, a box dropped at an angle settling flat, a 55-box
 pyramid standing, a spring's period, and a pool break stepped in 256 worlds at once.
-It takes a few seconds and needs nothing but numpy.
+It takes a few seconds and needs nothing but the engine (numpy and numba).
 """
 
 from __future__ import annotations

@@ -32,6 +32,17 @@ JIT_DISABLED = bool(numba.config.DISABLE_JIT)
 _PACKAGE = Path(__file__).parent
 
 
+def kernel_sources_digest(package: Path) -> str:
+    """SHA-256 of the modules under ``package`` that kernels are compiled from: those
+    that define kernels, and ``state.py`` and ``settings.py`` whose constants they use."""
+    digest = hashlib.sha256()
+    for path in sorted(package.glob("*.py")):
+        source = path.read_bytes()
+        if b"from ._jit import" in source or path.name in ("state.py", "settings.py"):
+            digest.update(path.name.encode() + source)
+    return digest.hexdigest()
+
+
 def clear_stale_cache(cache: str) -> None:
     """Drop compiled kernels built from other sources than these, in the directory numba
     caches this package's kernels in (``__pycache__``, or under ``NUMBA_CACHE_DIR``).
@@ -39,13 +50,11 @@ def clear_stale_cache(cache: str) -> None:
     numba checks a cached function against its own file only, but a kernel inlines the
     functions it calls from other modules: after an edit or an upgrade in place (``git
     pull`` on an editable install) a kernel could run the code it was compiled from. So
-    the cache is stamped with a hash of every module of the package, and emptied when the
-    sources differ from the stamp. ``pipeline`` calls this on import, before any kernel
-    runs."""
-    digest = hashlib.sha256()
-    for path in sorted(_PACKAGE.glob("*.py")):
-        digest.update(path.name.encode() + path.read_bytes())
-    stamp, directory = digest.hexdigest(), Path(cache)
+    the cache is stamped with a hash of the package's kernel modules (and of the
+    constants they are compiled with), and emptied when the sources differ from it.
+    ``pipeline`` calls this on import, before any kernel runs. Editing another module
+    (the facades, the envs) keeps the cache."""
+    stamp, directory = kernel_sources_digest(_PACKAGE), Path(cache)
     marker = directory / "kernels.sha256"
     with contextlib.suppress(OSError):
         if marker.exists() and marker.read_text() == stamp:
