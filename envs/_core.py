@@ -137,13 +137,7 @@ class ShotGame:
 
 
 def check_action(action: Any, shape: tuple[int, ...]) -> np.ndarray:
-    """An action as float64, clipped to [-1, 1]; NaN or infinity raise ValueError."""
-    try:
-        array = np.asarray(action, dtype=np.float64)
-    except (TypeError, ValueError) as error:
-        raise ValueError(f"action must be an array of {shape} numbers, got {action!r}") from error
-    if array.shape != shape:
-        raise ValueError(f"action must have shape {shape}, got {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"action must be finite, got {array.tolist()}")
-    return np.clip(array, -1.0, 1.0)
+    """An action as float64, clipped to [-1, 1] (the action space, as SB3 clips a policy's
+    Gaussian sample); NaN, infinity, complex numbers, bools, strings and a wrong shape
+    raise ValueError naming ``action``."""
+    return np.clip(_checks.real_array("action", action, shape), -1.0, 1.0)

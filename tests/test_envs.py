@@ -141,6 +141,14 @@ def test_bad_actions_raise_and_out_of_range_actions_are_clipped(env_id: str) -> 
         env.step(np.zeros(3, np.float32))
     with pytest.raises(ValueError, match="action must be"):
         env.step("left")
+    # numpy would drop the imaginary part, and turn True into 1.0, without a word.
+    for bad in (np.array([0.5 + 0.0j, 0.1]), np.array([0.5, 0.1 + 1j]), [True, False], None):
+        with pytest.raises(ValueError, match="action must be"):
+            env.step(bad)
+    vector = make_vec(env_id, 2)
+    vector.reset(seed=0)
+    with pytest.raises(ValueError, match="action must be real"):
+        vector.step(np.full((2, 2), 0.5 + 0.0j))
     big = make(env_id)
     big.reset(seed=4)
     clipped = make(env_id)

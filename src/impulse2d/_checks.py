@@ -15,14 +15,17 @@ import numpy as np
 
 def _real(name: str, value: Any) -> np.ndarray:
     """``value`` as a float64 array, refusing what is not a real number: strings, None,
-    complex numbers (numpy would silently drop the imaginary part), ragged lists."""
+    complex numbers (numpy would silently drop the imaginary part), bools (``True`` is
+    not a length), ragged lists."""
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be numeric, got {value!r}") from None
     if raw.dtype.kind == "c":
         raise ValueError(f"{name} must be real, got complex {value!r}")
-    if raw.dtype.kind not in "biuf":
+    if raw.dtype.kind == "b":
+        raise ValueError(f"{name} must be a number, not a bool, got {value!r}")
+    if raw.dtype.kind not in "iuf":
         raise ValueError(f"{name} must be numeric, got {value!r}")
     return raw.astype(np.float64)
 
@@ -110,6 +113,28 @@ def batched_rule(name: str, array: np.ndarray, rule: str) -> None:
     bad = array <= 0.0 if rule == "> 0" else array < 0.0
     if np.any(bad):
         raise ValueError(f"{name} must be {rule}, got {array[bad].flat[0]}")
+
+
+def within(name: str, array: Any, low: float, high: float, unit: str = "") -> None:
+    """Check that every entry of ``array`` (already finite) lies in ``[low, high]``, the
+    range ``impulse2d.envelope`` guarantees; the message gives the range and its unit."""
+    values = np.asarray(array)
+    bad = (values < low) | (values > high)
+    if np.any(bad):
+        raise ValueError(
+            f"{name} must be in [{low:g}, {high:g}]{unit} (the supported range, see "
+            f"impulse2d.envelope), got {values[bad].flat[0]:g}"
+        )
+
+
+def magnitude_at_most(name: str, array: Any, high: float, unit: str = "") -> None:
+    """Check that every 2-vector along the last axis of ``array`` has a length <= ``high``."""
+    length = np.hypot(np.asarray(array)[..., 0], np.asarray(array)[..., 1])
+    if np.any(length > high):
+        raise ValueError(
+            f"{name} must have a magnitude <= {high:g}{unit} (the supported range, see "
+            f"impulse2d.envelope), got {length[length > high].flat[0]:g}"
+        )
 
 
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:

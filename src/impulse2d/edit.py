@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _checks
+from . import envelope as env
 from ._jit import kernel
 from .events import disable, enable, forget_contacts
 from .sleep import wake_island, wake_neighbours
@@ -29,7 +31,6 @@ from .state import (
     ENABLED,
     FIXED,
     FX,
-    FY,
     HALF_H,
     HALF_W,
     INV_MASS,
@@ -177,19 +178,30 @@ def set_enabled(world: World, slot: int, flags: np.ndarray) -> None:
 def apply(world: World, slot: int, force: bool, push: np.ndarray, point: np.ndarray | None) -> None:
     """A force over the next step, or an impulse now (``push`` (B, 2)), at ``point`` (B, 2)
     (default: the centre), with the torque ``r x push``; wakes the body where it is pushed
-    (a batch of shots where some worlds sit out must leave those as they are)."""
+    (a batch of shots where some worlds sit out must leave those as they are).
+
+    What the push leads to is checked against the envelope before anything is written:
+    the speeds an impulse leaves, the acceleration ``F / m`` of the body's total force."""
     body = world.state.body[:, slot]
     centre = body[:, X : Y + 1]
     r = np.zeros_like(push) if point is None else point - centre
     torque = r[:, 0] * push[:, 1] - r[:, 1] * push[:, 0]
     if force:
-        body[:, FX] += push[:, 0]
-        body[:, FY] += push[:, 1]
-        body[:, TORQUE] += torque
+        total = body[:, FX : TORQUE + 1] + np.column_stack([push, torque])
+        acceleration = total[:, :2] * body[:, INV_MASS, None]
+        _checks.magnitude_at_most("force (over mass)", acceleration, env.ACCELERATION, " m/s^2")
+        body[:, FX : TORQUE + 1] = total
     else:
-        body[:, VX] += push[:, 0] * body[:, INV_MASS]
-        body[:, VY] += push[:, 1] * body[:, INV_MASS]
-        body[:, W] += torque * body[:, INV_MOMENT]
+        velocity = body[:, VX : W + 1] + np.column_stack(
+            [push * body[:, INV_MASS, None], torque * body[:, INV_MOMENT]]
+        )
+        speed = env.SPEED
+        _checks.magnitude_at_most(
+            "impulse (the velocity it leaves)", velocity[:, :2], speed, " m/s"
+        )
+        spin = env.ANGULAR_SPEED
+        _checks.within("impulse (the spin it leaves)", velocity[:, 2], -spin, spin, " rad/s")
+        body[:, VX : W + 1] = velocity
     wake(world, np.flatnonzero(np.any(push != 0.0, axis=1)), slot)
 
 

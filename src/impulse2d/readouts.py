@@ -186,7 +186,7 @@ def containing(state: WorldState, layout: Layout, point: np.ndarray, world: int)
     hw, hh = body[:, HALF_W], body[:, HALF_H]
     kind = layout.kind
     inside = np.where(
-        kind == CIRCLE, lx * lx + ly * ly <= hw * hw, (np.abs(lx) <= hw) & (np.abs(ly) <= hh)
+        kind == CIRCLE, np.hypot(lx, ly) <= hw, (np.abs(lx) <= hw) & (np.abs(ly) <= hh)
     )
     inside &= ((kind == CIRCLE) | (kind == BOX)) & (state.body_i[world, :, ENABLED] == 1)
     return np.flatnonzero(inside)

@@ -9,12 +9,13 @@ is a box with ``outside=True``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from . import _checks
-from .shapes import Part, per_world
+from .shapes import COORDINATE, SIZE, Part, per_world
 from .state import (
     BOX,
     CIRCLE,
@@ -28,13 +29,14 @@ from .state import (
     SENSOR_Y,
 )
 
-# name -> (columns of state.sensor, shape of one value, rule, stored = value * scale)
-_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], str | None, float]] = {
-    "position": ([SENSOR_X, SENSOR_Y], (2,), None, 1.0),
+# name -> (columns of state.sensor, shape of one value, check(name, array) against the
+# envelope or None, stored = value * scale)
+_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], Callable[[str, Any], None] | None, float]] = {
+    "position": ([SENSOR_X, SENSOR_Y], (2,), COORDINATE, 1.0),
     "angle": ([SENSOR_ANGLE], (), None, 1.0),
-    "radius": ([SENSOR_HW], (), "> 0", 1.0),
-    "width": ([SENSOR_HW], (), "> 0", 0.5),
-    "height": ([SENSOR_HH], (), "> 0", 0.5),
+    "radius": ([SENSOR_HW], (), SIZE, 1.0),
+    "width": ([SENSOR_HW], (), SIZE, 0.5),
+    "height": ([SENSOR_HH], (), SIZE, 0.5),
 }
 
 
@@ -111,14 +113,17 @@ class Sensor(Part):
 
     def _set(self, name: str, value: Any) -> None:
         self._check_name(name)
-        columns, tail, rule, scale = _COLUMNS[name]
+        columns, tail, check, scale = _COLUMNS[name]
         if self._world is None:
-            self._values[name] = _checks.detached(name, value, tail, rule)
+            kept = _checks.detached(name, value, tail)
+            if check:
+                check(name, np.asarray(kept))
+            self._values[name] = kept
             return
         batch = self._world.batch_size
         array = _checks.batched(name, value, batch, tail)
-        if rule:
-            _checks.batched_rule(name, array, rule)
+        if check:
+            check(name, array)
         self._world.state.sensor[:, self._slot, columns] = (array * scale).reshape(batch, -1)
 
     @property

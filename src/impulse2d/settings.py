@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _checks
+from . import envelope as env
 
 MIXING_RULES = ("max", "min", "mean", "product", "sqrt")
 
@@ -59,10 +60,11 @@ def _number(rule: str) -> Any:
 
 
 class _Setting:
-    """A validated float setting: ``rule`` is ``'> 0'`` or ``'>= 0'``."""
+    """A validated float setting: ``rule`` is ``'> 0'`` or ``'>= 0'``; ``high`` (with its
+    ``unit``) is the envelope's bound, if the setting has one."""
 
-    def __init__(self, rule: str, doc: str) -> None:
-        self.rule, self.__doc__ = rule, doc
+    def __init__(self, rule: str, doc: str, high: float | None = None, unit: str = "") -> None:
+        self.rule, self.__doc__, self.high, self.unit = rule, doc, high, unit
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
@@ -71,7 +73,10 @@ class _Setting:
         return self if obj is None else obj._values[self.name]
 
     def __set__(self, obj: Any, value: Any) -> None:
-        obj._values[self.name] = _number(self.rule)(self.name, value)
+        number = _number(self.rule)(self.name, value)
+        if self.high is not None:
+            _checks.within(self.name, number, 0.0, self.high, self.unit)
+        obj._values[self.name] = number
         obj._context = None
 
 
@@ -79,10 +84,14 @@ class Settings:
     """What a ``World`` is set up with (see ``World`` for each one's meaning)."""
 
     restitution_threshold = _Setting(">= 0", "Impacts slower than this (m/s) do not bounce.")
-    contact_hertz = _Setting("> 0", "Stiffness of the soft overlap correction (Hz).")
-    contact_damping_ratio = _Setting(">= 0", "Damping ratio of the overlap correction.")
-    contact_push_speed = _Setting("> 0", "Fastest push out of an overlap per contact (m/s).")
-    speculative_distance = _Setting(">= 0", "Contacts are made this far (m) before touching.")
+    contact_hertz = _Setting("> 0", "Stiffness of the overlap correction (Hz).", env.RATE, " Hz")
+    contact_damping_ratio = _Setting(">= 0", "Damping ratio of the overlap correction.", env.RATE)
+    contact_push_speed = _Setting(
+        "> 0", "Fastest push out of an overlap per contact (m/s).", env.SPEED, " m/s"
+    )
+    speculative_distance = _Setting(
+        ">= 0", "Contacts are made this far (m) before touching.", env.SIZE[1], " m"
+    )
     time_to_sleep = _Setting("> 0", "Seconds an island must be slow before it sleeps.")
     sleep_speed = _Setting(">= 0", "Bodies slower than this (m/s) count as resting.")
     damage_speed = _Setting(">= 0", "Impacts slower than this (m/s) do no damage.")
@@ -102,7 +111,9 @@ class Settings:
 
     @gravity.setter
     def gravity(self, value: Any) -> None:
-        self._values["gravity"] = _checks.vector2("gravity", value)
+        gravity = _checks.vector2("gravity", value)
+        _checks.magnitude_at_most("gravity", gravity, env.ACCELERATION, " m/s^2")
+        self._values["gravity"] = gravity
         self._context = None
 
     @property
@@ -153,11 +164,14 @@ class Settings:
         twin._context = None
         return twin
 
-    def step_context(self, dt: float) -> np.ndarray:
-        """The context array for a step of ``dt`` seconds (cached until a setting changes)."""
+    def step_context(self, dt: Any) -> np.ndarray:
+        """The context array for a step of ``dt`` seconds (cached until a setting changes);
+        ``dt`` is checked here, against ``impulse2d.envelope.DT``."""
         cached = self._context
-        if cached is not None and cached[0] == dt:
+        if cached is not None and cached[0] == dt and type(dt) is float:
             return cached[1]
+        dt = _checks.positive("dt", dt)
+        _checks.within("dt", dt, *env.DT, unit=" s")
         v = self._values
         h = dt / v["substeps"]
         # Box2D caps the contact stiffness at a quarter of the substep rate: stiffer than

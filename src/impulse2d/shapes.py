@@ -14,11 +14,14 @@ a single world (``B == 1``) values are plain floats and arrays of shape ``(2,)``
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _checks, edit
+from . import envelope as env
 from .state import (
     ANGLE,
     ANGULAR_DRAG,
@@ -61,11 +64,25 @@ def per_world(values: np.ndarray, batch: int) -> Any:
     return values
 
 
+# Checks against the envelope (``impulse2d.envelope``), shared by the fields below.
+SIZE = partial(_checks.within, low=env.SIZE[0], high=env.SIZE[1], unit=" m")
+COORDINATE = partial(_checks.within, low=-env.COORDINATE, high=env.COORDINATE, unit=" m")
+SPEED = partial(_checks.magnitude_at_most, high=env.SPEED, unit=" m/s")
+ANGULAR_SPEED = partial(
+    _checks.within, low=-env.ANGULAR_SPEED, high=env.ANGULAR_SPEED, unit=" rad/s"
+)
+RESTITUTION_RANGE = partial(_checks.within, low=0.0, high=env.RESTITUTION)
+FRICTION_RANGE = partial(_checks.within, low=0.0, high=env.FRICTION)
+RATE = partial(_checks.within, low=0.0, high=env.RATE, unit=" 1/s")
+DECELERATION = partial(_checks.within, low=0.0, high=env.ACCELERATION, unit=" m/s^2")
+
+
 class _Field:
     """Descriptor for one per-world value of a body: a scalar column or a 2-vector.
 
     ``columns`` are ``state.body`` columns; ``rule`` is the validation (``'> 0'``,
     ``'>= 0'`` or ``None`` for any finite number; ``finite=False`` also admits +inf);
+    ``limit(name, array)`` checks the value against ``impulse2d.envelope``;
     ``rebuild``: the derived mass properties must be recomputed after a write; ``moves``:
     the write teleports or resizes the body (what rested on it wakes);
     ``scale``: stored = value * scale (a box stores half its width).
@@ -79,9 +96,10 @@ class _Field:
         moves: bool = False,
         scale: float = 1.0,
         finite: bool = True,
+        limit: Callable[[str, np.ndarray], None] | None = None,
         doc: str = "",
     ) -> None:
-        self.columns, self.rule = list(columns), rule
+        self.columns, self.rule, self.limit = list(columns), rule, limit
         self.rebuild, self.moves, self.scale, self.finite = rebuild, moves, scale, finite
         self.__doc__ = doc
 
@@ -113,6 +131,8 @@ class _Field:
             array = _checks.batched(self.name, value, batch, self.tail, finite=self.finite)
         if self.rule:
             _checks.batched_rule(self.name, array, self.rule)
+        if self.limit:
+            self.limit(self.name, array)
         obj._check_value(self.name, array)
         return array
 
@@ -193,17 +213,17 @@ class Body(_Slot):
     inverse mass), so nothing can move them and no energy leaks into them.
     """
 
-    position = _Field((X, Y), moves=True, doc="Centre of mass (m), settable.")
-    velocity = _Field((VX, VY), doc="Linear velocity (m/s), settable.")
+    position = _Field((X, Y), moves=True, limit=COORDINATE, doc="Centre of mass (m), settable.")
+    velocity = _Field((VX, VY), limit=SPEED, doc="Linear velocity (m/s), settable.")
     angle = _Field((ANGLE,), moves=True, doc="Rotation (rad, counter-clockwise), settable.")
-    angular_velocity = _Field((W,), doc="Angular velocity (rad/s, CCW), settable.")
+    angular_velocity = _Field((W,), limit=ANGULAR_SPEED, doc="Angular velocity (rad/s, CCW).")
     mass = _Field((MASS,), rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
-    restitution = _Field((RESTITUTION,), rule=">= 0", doc="Coefficient of restitution.")
-    friction = _Field((FRICTION,), rule=">= 0", doc="Coulomb friction coefficient.")
-    linear_drag = _Field((LINEAR_DRAG,), rule=">= 0", doc="Linear drag (1/s).")
-    angular_drag = _Field((ANGULAR_DRAG,), rule=">= 0", doc="Angular drag (1/s).")
+    restitution = _Field((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
+    friction = _Field((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
+    linear_drag = _Field((LINEAR_DRAG,), limit=RATE, doc="Linear drag (1/s).")
+    angular_drag = _Field((ANGULAR_DRAG,), limit=RATE, doc="Angular drag (1/s).")
     rolling_resistance = _Field(
-        (ROLLING,), rule=">= 0", doc="Constant deceleration of the speed (m/s^2)."
+        (ROLLING,), limit=DECELERATION, doc="Constant deceleration of the speed (m/s^2)."
     )
     health = _Field(
         (HEALTH,), rule="> 0", finite=False, doc="Left before impacts break it (N s); inf: never."
@@ -267,8 +287,13 @@ class Body(_Slot):
         self.mass = mass
 
     def _check_value(self, name: str, array: np.ndarray) -> None:
-        if name == "mass" and self._motion == DYNAMIC and np.any(array <= 0.0):
+        if name != "mass":
+            return
+        if self._motion == DYNAMIC and np.any(array <= 0.0):
             raise ValueError(f"mass of a dynamic body must be > 0, got {array[array <= 0].flat[0]}")
+        # A fixed or kinematic body may keep mass 0 (it is never used); any other mass
+        # must be in the envelope.
+        _checks.within("mass", array[array != 0.0], *env.MASS, unit=" kg")
 
     # -- kind of body ----------------------------------------------------------------------
     @property
@@ -359,6 +384,8 @@ class Body(_Slot):
         batch = self._world.batch_size
         push = _checks.batched(name, vector, batch, (2,))
         where = None if point is None else _checks.batched("point", point, batch, (2,))
+        if where is not None:
+            COORDINATE("point", where)
         edit.apply(self._world, self._slot, name == "force", push, where)
 
     # -- geometry --------------------------------------------------------------------------
@@ -411,7 +438,7 @@ class Circle(Body):
 
     _kind = CIRCLE
     _saved = (*Body._saved, "radius")
-    radius = _Field((HALF_W,), rule="> 0", rebuild=True, moves=True, doc="Radius (m).")
+    radius = _Field((HALF_W,), limit=SIZE, rebuild=True, moves=True, doc="Radius (m).")
 
     def __init__(self, *, radius: Any = 0.5, **body: Any) -> None:
         super().__init__(**body)
@@ -435,8 +462,8 @@ class Box(Body):
 
     _kind = BOX
     _saved = (*Body._saved, "width", "height")
-    width = _Field((HALF_W,), rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Width (m).")
-    height = _Field((HALF_H,), rule="> 0", rebuild=True, moves=True, scale=0.5, doc="Height (m).")
+    width = _Field((HALF_W,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Width (m).")
+    height = _Field((HALF_H,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Height (m).")
 
     def __init__(self, *, width: Any = 1.0, height: Any = 1.0, **body: Any) -> None:
         super().__init__(**body)
@@ -465,9 +492,9 @@ class Plane(_Slot):
     _kind = PLANE
     _fixed_names = ("normal",)
     _saved = ("point", "restitution", "friction")
-    point = _Field((X, Y), moves=True, doc="A point on the plane's surface (m).")
-    restitution = _Field((RESTITUTION,), rule=">= 0", doc="Coefficient of restitution.")
-    friction = _Field((FRICTION,), rule=">= 0", doc="Coulomb friction coefficient.")
+    point = _Field((X, Y), moves=True, limit=COORDINATE, doc="A point on the surface (m).")
+    restitution = _Field((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
+    friction = _Field((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
 
     def __init__(
         self,
@@ -479,9 +506,10 @@ class Plane(_Slot):
     ) -> None:
         super().__init__()
         n = _checks.vector2("normal", normal)
-        length = float(np.sqrt(n[0] * n[0] + n[1] * n[1]))
-        if length == 0.0:
-            raise ValueError("normal must be non-zero, got (0.0, 0.0)")
+        # A normal too short to normalise accurately (its square underflows) is refused.
+        length = float(np.hypot(n[0], n[1]))
+        if not length > 1e-150:
+            raise ValueError(f"normal must be a non-zero vector (length > 1e-150), got {normal!r}")
         self._normal = n / length
         self.point = point
         self.restitution = restitution

@@ -9,24 +9,33 @@ sideways motion a spring cannot resist.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _checks, edit
+from . import envelope as env
 from .shapes import Part, per_world
 from .state import ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, DAMPING, REST_LENGTH, STIFFNESS
 
 if TYPE_CHECKING:
     from .shapes import Body
 
-# name -> (columns of state.spring, shape of one value, rule)
-_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], str | None]] = {
-    "rest_length": ([REST_LENGTH], (), ">= 0"),
-    "stiffness": ([STIFFNESS], (), ">= 0"),
-    "damping": ([DAMPING], (), ">= 0"),
-    "anchor1": ([ANCHOR_AX, ANCHOR_AY], (2,), None),
-    "anchor2": ([ANCHOR_BX, ANCHOR_BY], (2,), None),
+# Anchors and lengths within the envelope's coordinates (``impulse2d.envelope``); the
+# stiffness and damping are bounded by the stability check of every step instead.
+_LENGTH = partial(_checks.within, low=0.0, high=2.0 * env.COORDINATE, unit=" m")
+_ANCHOR = partial(_checks.within, low=-env.COORDINATE, high=env.COORDINATE, unit=" m")
+_NON_NEGATIVE = partial(_checks.batched_rule, rule=">= 0")
+
+# name -> (columns of state.spring, shape of one value, check(name, array))
+_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], Callable[[str, Any], None]]] = {
+    "rest_length": ([REST_LENGTH], (), _LENGTH),
+    "stiffness": ([STIFFNESS], (), _NON_NEGATIVE),
+    "damping": ([DAMPING], (), _NON_NEGATIVE),
+    "anchor1": ([ANCHOR_AX, ANCHOR_AY], (2,), _ANCHOR),
+    "anchor2": ([ANCHOR_BX, ANCHOR_BY], (2,), _ANCHOR),
 }
 
 
@@ -88,14 +97,15 @@ class Spring(Part):
         return per_world(values if tail else values[:, 0], self._world.batch_size)
 
     def _set(self, name: str, value: Any) -> None:
-        columns, tail, rule = _COLUMNS[name]
+        columns, tail, check = _COLUMNS[name]
         if self._world is None:
-            self._values[name] = _checks.detached(name, value, tail, rule)
+            kept = _checks.detached(name, value, tail)
+            check(name, np.asarray(kept))
+            self._values[name] = kept
             return
         world = self._world
         array = _checks.batched(name, value, world.batch_size, tail)
-        if rule:
-            _checks.batched_rule(name, array, rule)
+        check(name, array)
         world.state.spring[:, self._slot, columns] = array.reshape(world.batch_size, -1)
         everywhere = np.arange(world.batch_size)
         edit.wake(world, everywhere, self.body1.slot)

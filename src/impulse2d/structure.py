@@ -111,7 +111,7 @@ def add(world: World, obj: Any) -> Any:
 def remove(world: World, obj: Any) -> None:
     """Take ``obj`` out of every world; it keeps its values (see ``World.remove``)."""
     if not isinstance(obj, (_Slot, Spring, Sensor)) or obj._world is not world:
-        raise ValueError(f"{obj!r} is not in this world")
+        raise ValueError(f"obj must be an object in this world, got {obj!r}")
     if isinstance(obj, Spring):
         _remove_spring(world, obj)
         return

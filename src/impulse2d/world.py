@@ -263,7 +263,7 @@ class World:
     def step(self, dt: float, steps: int = 1) -> None:
         """Advance every world by ``dt`` seconds (``substeps`` solver substeps inside), or
         ``steps`` times by ``dt`` in one compiled call."""
-        context = self.settings.step_context(_checks.positive("dt", dt))
+        context = self.settings.step_context(dt)
         count = 1 if steps.__class__ is int and steps == 1 else _checks.positive_int("steps", steps)
         plan = self._runner.run(self.state, self.layout, context, self._all(), count, False)
         if plan[0, pipeline.PLAN_STATUS] or self.batch_size > 1:
@@ -283,7 +283,7 @@ class World:
         the order given. A world at rest costs nothing while the others go on, and worlds
         not named do not move. With ``callback``, the run pauses every ``every`` steps to
         call ``callback(steps_so_far)`` (frames of a shot), then goes on."""
-        context = self.settings.step_context(_checks.positive("dt", dt))
+        context = self.settings.step_context(dt)
         cap = _checks.positive_int("max_steps", max_steps)
         chosen = self._worlds(worlds)
         if callback is None:
