@@ -145,6 +145,32 @@ def test_snapshot_is_unaffected_by_later_changes():
     np.testing.assert_array_equal(run(world, 60)[-1], expected)
 
 
+def test_restore_brings_back_the_settings_and_the_last_contacts():
+    """Settings changed after a snapshot (gravity, substeps, contact and sleep settings)
+    come back with it, so stepping repeats the original run bitwise; and the last step's
+    contacts come back, so ``impulses()`` and ``contacts()`` read what they read then."""
+    world = build_messy(p2.World())
+    for _ in range(40):
+        world.step(DT)
+    snap = world.snapshot()
+    impulses, contacts = world.impulses().copy(), world.contacts()
+    assert impulses.any()
+    expected = run(world, 60)[-1]
+    world.restore(snap)
+    np.testing.assert_array_equal(world.impulses(), impulses)
+    np.testing.assert_array_equal(world.contacts().point, contacts.point)
+    world.gravity, world.substeps = (1.0, -3.0), 2
+    world.contact_hertz, world.sleeping, world.restitution_threshold = 5.0, False, 0.1
+    changed = run(world, 60)[-1]
+    assert not np.array_equal(changed, expected)
+    world.restore(snap)
+    assert world.substeps == 4 and world.sleeping and world.contact_hertz == 30.0
+    np.testing.assert_array_equal(world.gravity, (0.0, -9.81))
+    np.testing.assert_array_equal(run(world, 60)[-1], expected)
+    world.gravity = (0.0, -1.0)  # a restored world's settings are its own again
+    assert snap.settings.gravity[1] == -9.81
+
+
 # -- batches ---------------------------------------------------------------------------------
 @pytest.mark.parametrize("when", [0, 45])
 def test_replicate_steps_each_world_like_the_single_world(when):

@@ -7,7 +7,8 @@ A ``World`` holds three things and the objects that view them:
 * ``layout`` (``Layout``): what the worlds share, the kind of each slot.
 
 ``step`` is one compiled call into ``pipeline``; ``run_until_rest`` runs a whole shot
-the same way. A snapshot is a copy of the state.
+the same way. A snapshot is a copy of the state and
+the settings.
 """
 
 from __future__ import annotations
@@ -85,11 +86,21 @@ assert len([n for n, (a, _) in ARRAYS.items() if a == "body_i"]) == BODY_I - 1
 
 @dataclass(frozen=True)
 class Snapshot:
-    """The complete state of a World (or batch) at one moment; ``World.restore`` brings it
-    back exactly. ``layout`` records which objects it belongs to."""
+    """Everything a World (or batch) steps from, at one moment: ``World.restore`` brings
+    it back, and the restored world steps bitwise as the original did.
+
+    * ``state``: every array that evolves (bodies, springs, sensors, the last step's
+      contacts, which warm-start the next step and which ``impulses()``, ``touches()``
+      and ``contacts()`` read, time and step counts);
+    * ``settings``: gravity, substeps, the contact and sleep settings;
+    * ``layout``: which objects it belongs to (it restores only into the same objects).
+
+    Not held: ``threads`` (results do not depend on it) and the objects' Python
+    attributes (a Spring's bodies, a Sensor's flags), which cannot change."""
 
     state: WorldState
     layout: Layout
+    settings: Settings
 
     @property
     def batch_size(self) -> int:
@@ -423,8 +434,8 @@ class World:
 
     # -- snapshots and copies -----------------------------------------------------------------
     def snapshot(self) -> Snapshot:
-        """A copy of the full state; ``restore`` brings it back exactly."""
-        return Snapshot(self.state.copy(), self.layout.copy())
+        """A copy of the full state and the settings; ``restore`` brings them back."""
+        return Snapshot(self.state.copy(), self.layout.copy(), self.settings.copy())
 
     def restore(self, snapshot: Snapshot, worlds: Any = None) -> None:
         """Bring back a snapshot: into every world, or only into ``worlds`` (indices).
@@ -455,6 +466,7 @@ class World:
                 f"or exactly {count} named worlds, not {targets.size} of {self.batch_size}"
             )
         self.state.put(snapshot.state, targets, sources)
+        self.settings = snapshot.settings.copy()
 
     def replicate(self, batch_size: int) -> World:
         """A new batch of ``batch_size`` copies of this (single) world, state included.
