@@ -99,12 +99,17 @@ def test_same_seed_and_actions_give_bitwise_the_same_episode(env_id: str) -> Non
     assert play() == play()
 
 
+@pytest.mark.parametrize("defaults", [False, True], ids=["learnable", "defaults"])
 @pytest.mark.parametrize("env_id", IDS)
-def test_vector_env_i_equals_a_single_env_seeded_seed_plus_i(env_id: str) -> None:
-    """Bitwise, through terminations and the vector env's same-step autoreset."""
+def test_vector_env_i_equals_a_single_env_seeded_seed_plus_i(env_id: str, defaults: bool) -> None:
+    """Bitwise, through terminations and the vector env's same-step autoreset; for the
+    learnable variants and for the defaults (the 15-ball rack, random levels)."""
     n, steps, seed = 4, 5, 11
     moves = actions(steps, seed=2, shape=(n, 2))
-    venv = make_vec(env_id, n, max_episode_steps=3)
+    options = {} if defaults else OPTIONS[env_id]
+    venv = gym.make_vec(
+        env_id, n, vectorization_mode="vector_entry_point", max_episode_steps=3, **options
+    )
     assert venv.metadata["autoreset_mode"] == gym.vector.AutoresetMode.SAME_STEP
     vector = [venv.reset(seed=seed)[0]]
     vector_final: dict[tuple[int, int], np.ndarray] = {}
@@ -116,7 +121,7 @@ def test_vector_env_i_equals_a_single_env_seeded_seed_plus_i(env_id: str) -> Non
         for i in np.flatnonzero(terminated | truncated):
             vector_final[(t, i)] = info["final_obs"][i]
     for i in range(n):
-        env = make(env_id, max_episode_steps=3)
+        env = gym.make(env_id, max_episode_steps=3, **options)
         obs, _ = env.reset(seed=seed + i)
         assert obs.tobytes() == vector[0][i].tobytes()
         for t in range(steps):
