@@ -5,7 +5,7 @@ a numba kernel runs the stages of ``step_world`` *cumulatively* (stage 1 only, s
 ..., all of them) over the worlds of a state copied mid-scene, and the difference between
 two consecutive variants is a stage's own cost. The stages, in the step's order:
 
-1. body terms (``integrate.body_terms``; with the at-rest test before it)
+1. body terms (``integrate.step_terms``; with the at-rest test before it)
 2. broadphase (``broadphase.find_pairs``)
 3. narrowphase (``narrowphase.find_points``)
 4. waking (``sleep.wake_touched``; when something wakes, the step looks again: body
@@ -61,7 +61,7 @@ from impulse2d import pipeline
 from impulse2d import settings as ctx_
 from impulse2d.broadphase import find_pairs
 from impulse2d.contacts import carry_impulses, count_dormant, prepare
-from impulse2d.integrate import body_terms, spring_stability
+from impulse2d.integrate import spring_stability, step_terms
 from impulse2d.narrowphase import find_points
 from impulse2d.runner import available_threads
 from impulse2d.sleep import wake_touched
@@ -144,7 +144,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
             pipeline.rest_step(body, contact, world_i, time, w, ctx)
         return 0
     terms, points, ids, pairs = scratch[0], scratch[1], scratch[3], scratch[5]
-    body_terms(body, body_i, shapes, w, ctx, terms)
+    step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
     if stages < 2:
         return 0
     if stages == 2:
@@ -154,7 +154,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     if n < 0 or stages == 3:
         return n
     while wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
-        body_terms(body, body_i, shapes, w, ctx, terms)
+        step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
         n = _collide(body, body_i, shapes, w, ctx, scratch)
         if n < 0:
             return n

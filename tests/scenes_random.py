@@ -25,6 +25,16 @@ import impulse2d as p2
 from impulse2d.state import CONTACT_COUNT
 
 GRAVITY = (0.0, -9.81)
+# The wide scenes: a length scale from 3 mm to 20 m (sizes within 10x of it), masses
+# anywhere in 1 mg - 1000 t with up to 6 decades between the bodies of a scene, speeds up
+# to 200 m/s, dt from 0.1 ms to 0.1 s.
+WIDE = {
+    "scale": (3e-3, 20.0),
+    "log_mass": (-6.0, 6.0),
+    "mass_decades": 6.0,
+    "max_speed": (1.0, 200.0),
+    "dt": (1e-4, 0.1),
+}
 MOTIONS = ("dynamic", "fixed", "kinematic")
 
 
@@ -195,19 +205,44 @@ def unit(lo: float = 0.0, hi: float = 1.0) -> st.SearchStrategy[float]:
     return st.floats(lo, hi, allow_nan=False, allow_infinity=False)
 
 
+def log_uniform(lo: float, hi: float) -> st.SearchStrategy[float]:
+    """A float whose log10 is uniform in [log10 lo, log10 hi]."""
+    return unit(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
+
+
+def moderate_sizes(kind: str) -> tuple[st.SearchStrategy[float], st.SearchStrategy[float]]:
+    """Width (a circle's radius) and height: 0.05-1 m radii, 0.05-2 m box sides."""
+    return unit(0.05, 1.0 if kind == "circle" else 2.0), unit(0.05, 2.0)
+
+
+def sizes_around(scale: float):
+    """Sizes within a factor 10 of ``scale`` (m) either way, log-uniform."""
+
+    def sizes(kind: str) -> tuple[st.SearchStrategy[float], st.SearchStrategy[float]]:
+        side = log_uniform(max(scale / 10.0, 1e-3), scale * 10.0)
+        return side, side
+
+    return sizes
+
+
 @st.composite
-def body_specs(draw, motions, max_speed, restitution, friction, log_mass_low, room) -> BodySpec:
-    kind = draw(st.sampled_from(["circle", "box"]))
+def body_specs(
+    draw, motions, max_speed, restitution, friction, masses, sizes, room, kinds=("circle", "box")
+) -> BodySpec:
+    """One body; ``masses``: the range of log10 mass (kg); ``sizes(kind)``: strategies of
+    width (a circle's radius) and height; ``room``: half side of the square of centres."""
+    kind = draw(st.sampled_from(kinds))
     motion = draw(st.sampled_from(motions))
     speed, heading = draw(unit(0.0, max_speed)), draw(unit(-math.pi, math.pi))
+    width, height = sizes(kind)
     return BodySpec(
         kind=kind,
         motion=motion,
         x=draw(unit(-room, room)),
         y=draw(unit(-room, room)),
-        width=draw(unit(0.05, 1.0 if kind == "circle" else 2.0)),
-        height=draw(unit(0.05, 2.0)),
-        mass=10.0 ** draw(unit(log_mass_low, log_mass_low + 2.0)),
+        width=draw(width),
+        height=draw(height),
+        mass=10.0 ** draw(unit(*masses)),
         vx=speed * math.cos(heading),
         vy=speed * math.sin(heading),
         angle=draw(unit(-math.pi, math.pi)),
@@ -273,23 +308,37 @@ def scenes(
     restitution: st.SearchStrategy[float] | None = None,
     friction: st.SearchStrategy[float] | None = None,
     overlap: float = 0.2,
+    wide: bool = False,
+    kinds: tuple[str, ...] = ("circle", "box"),
 ) -> Scene:
     """A random scene (module docstring); keywords narrow it for one property.
 
     ``motions`` lists the motion types drawn (dynamic is weighted up: drawn from
     ``("dynamic", "dynamic", *motions)``); ``gravity=None`` draws it; ``bin``: the planes
-    are a floor and two walls; ``overlap`` as in ``keep_apart``."""
+    are a floor and two walls; ``overlap`` as in ``keep_apart``. ``wide`` draws from the
+    whole envelope instead (``WIDE``)."""
     restitution = unit() if restitution is None else restitution
     friction = unit() if friction is None else friction
     count = draw(st.integers(1, max_bodies))
-    low = draw(unit(-1.0, 0.0))  # masses in [10^low, 10^(low + 2)] kg: ratio <= 100
+    if wide:
+        scale = draw(log_uniform(*WIDE["scale"]))
+        span = draw(unit(0.0, WIDE["mass_decades"]))
+        low = draw(unit(WIDE["log_mass"][0], WIDE["log_mass"][1] - span))
+        masses, sizes = (low, low + span), sizes_around(scale)
+        max_speed = draw(log_uniform(*WIDE["max_speed"]))
+        room = scale * (1.0 + 1.5 * math.sqrt(count))
+    else:
+        low = draw(unit(-1.0, 0.0))  # masses in [10^low, 10^(low + 2)] kg: ratio <= 100
+        masses, sizes, room = (low, low + 2.0), moderate_sizes, 1.0 + 1.5 * math.sqrt(count)
     body = body_specs(
         ("dynamic", "dynamic", *motions) if "dynamic" in motions else motions,
         max_speed,
         restitution,
         friction,
-        low,
-        1.0 + 1.5 * math.sqrt(count),  # half side of the square the centres start in
+        masses,
+        sizes,
+        room,  # half side of the square the centres start in
+        kinds,
     )
     bodies = keep_apart(draw(st.lists(body, min_size=count, max_size=count)), overlap)
     return Scene(
@@ -297,7 +346,7 @@ def scenes(
         planes=draw(plane_specs(min_planes, max_planes, bin, restitution, friction)),
         spring=draw(spring_specs(bodies)) if springs else None,
         gravity=draw(st.booleans()) if gravity is None else gravity,
-        dt=draw(unit(1.0 / 240.0, 1.0 / 30.0)),
+        dt=draw(log_uniform(*WIDE["dt"]) if wide else unit(1.0 / 240.0, 1.0 / 30.0)),
         substeps=draw(st.integers(1, 8)),
     )
 

@@ -19,7 +19,9 @@ def candidate_pairs(world: p2.World, w: int = 0) -> np.ndarray:
     state, shapes = world.state, world.layout.shapes
     n = state.body.shape[1]
     terms = np.zeros((n, workspace.TERMS))
-    integrate.body_terms(state.body, state.body_i, shapes, w, ctx, terms)
+    integrate.step_terms(
+        state.body, state.body_i, shapes, state.spring, world.layout.springs, w, ctx, terms
+    )
     capacity = 16
     while True:
         pairs = np.zeros((capacity, 2), np.int64)
@@ -38,7 +40,9 @@ def brute_force(world: p2.World, w: int = 0) -> set:
     state, shapes = world.state, world.layout.shapes
     n = state.body.shape[1]
     terms = np.zeros((n, workspace.TERMS))
-    integrate.body_terms(state.body, state.body_i, shapes, w, ctx, terms)
+    integrate.step_terms(
+        state.body, state.body_i, shapes, state.spring, world.layout.springs, w, ctx, terms
+    )
     on = state.body_i[w, :, ENABLED] == 1
     kind, motion = shapes[:, 0], shapes[:, 1]
     found = set()

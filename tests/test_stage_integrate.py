@@ -37,11 +37,20 @@ ZERO_G = (0.0, 0.0)
 
 
 def terms_of(world: p2.World, dt: float = DT, w: int = 0) -> np.ndarray:
-    """``integrate.body_terms`` of world ``w`` as it stands."""
+    """``integrate.step_terms`` of world ``w`` as it stands."""
     state = world.state
     terms = np.zeros((state.body.shape[1], workspace.TERMS))
     ctx = world.settings.step_context(dt)
-    integrate.body_terms(state.body, state.body_i, world.layout.shapes, w, ctx, terms)
+    integrate.step_terms(
+        state.body,
+        state.body_i,
+        world.layout.shapes,
+        state.spring,
+        world.layout.springs,
+        w,
+        ctx,
+        terms,
+    )
     return terms
 
 

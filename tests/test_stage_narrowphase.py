@@ -268,7 +268,9 @@ def _box_plane_points(angle, height, spin) -> list[int]:
     state, shapes = world.state, world.layout.shapes
     ctx = world.settings.step_context(DT)
     terms = np.zeros((state.body.shape[1], workspace.TERMS))
-    integrate.body_terms(state.body, state.body_i, shapes, 0, ctx, terms)
+    integrate.step_terms(
+        state.body, state.body_i, shapes, state.spring, world.layout.springs, 0, ctx, terms
+    )
     pairs = np.array([[body.slot, ground.slot]], np.int64)
     points = np.zeros((8, workspace.POINT_F))
     ids = np.zeros((8, 3), np.int64)

@@ -36,7 +36,9 @@ def prepared(world: p2.World, dt: float = DT) -> SimpleNamespace:
     state, shapes = world.state, world.layout.shapes
     n_bodies = state.body.shape[1]
     terms = np.zeros((n_bodies, workspace.TERMS))
-    integrate.body_terms(state.body, state.body_i, shapes, 0, ctx, terms)
+    integrate.step_terms(
+        state.body, state.body_i, shapes, state.spring, world.layout.springs, 0, ctx, terms
+    )
     pairs = np.zeros((64, 2), np.int64)
     count = broadphase.find_pairs(
         state.body, state.body_i, shapes, 0, ctx, terms, pairs, np.zeros_like(pairs),

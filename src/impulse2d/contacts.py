@@ -42,6 +42,7 @@ from .state import (
     ENABLED,
     FEATURE,
     FRICTION,
+    HALF_W,
     NORMAL_IMPULSE,
     POINT_X,
     POINT_Y,
@@ -52,6 +53,8 @@ from .state import (
     VX,
     VY,
     W,
+    X,
+    Y,
 )
 from .workspace import (
     ACCEL_W,
@@ -65,6 +68,7 @@ from .workspace import (
     IMB,
     IMPACT_V,
     IMPULSE_SCALE,
+    KEEP,
     MASS_SCALE,
     MAX_J,
     MIXED_FRICTION,
@@ -146,6 +150,90 @@ def carry_impulses(contact, contact_i, world_i, w, points, ids, n) -> None:
         points[k, TANGENT_J] = contact[w, j, TANGENT_IMPULSE] if found else 0.0
 
 
+@inline
+def set_jacobian(points, k, dax, day, dbx, dby) -> None:
+    """The Jacobian's cross terms ``rA x n``, ``rB x n``, ``rA x t``, ``rB x t`` and the
+    effective masses of point ``k``, for its anchors moved by ``(dax, day)`` on A and
+    ``(dbx, dby)`` on B from where the narrowphase put them (see ``follow_bodies``)."""
+    nx, ny = points[k, NX], points[k, NY]
+    tx, ty = ny, -nx
+    rax, ray = points[k, RAX] + dax, points[k, RAY] + day
+    rbx, rby = points[k, RBX] + dbx, points[k, RBY] + dby
+    rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
+    rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
+    points[k, RNA], points[k, RNB], points[k, RTA], points[k, RTB] = rna, rnb, rta, rtb
+    ima, imb, iia, iib = points[k, IMA], points[k, IMB], points[k, IIA], points[k, IIB]
+    k_normal = ima + imb + iia * rna * rna + iib * rnb * rnb
+    k_tangent = ima + imb + iia * rta * rta + iib * rtb * rtb
+    points[k, NORMAL_MASS] = 1.0 / k_normal if k_normal > 0.0 else 0.0
+    points[k, TANGENT_MASS] = 1.0 / k_tangent if k_tangent > 0.0 else 0.0
+
+
+@inline
+def along_line_of_centres(body, w, terms, points, k, a, b) -> None:
+    """Two discs are pushed along their line of centres now, at anchors through their
+    centres: the impulse then lies on the line joining the centres and exerts no torque
+    on the pair. While they do not touch, a point keeps its normal if it has not pushed
+    yet, or if that normal is the line of centres at a predicted impact (not the one at
+    the step start): the impact's direction. ``SEP0`` is re-based so the solver's
+    separation, its value at the step start plus ``J . dq``, is the exact gap now."""
+    dx, dy = body[w, b, X] - body[w, a, X], body[w, b, Y] - body[w, a, Y]
+    dist = math.sqrt(dx * dx + dy * dy)
+    ra, rb = body[w, a, HALF_W], body[w, b, HALF_W]
+    gap = dist - ra - rb
+    if dist < 1e-12 * (ra + rb):
+        return
+    if gap > 0.0:
+        untouched = points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0
+        x0, y0 = terms[b, X0] - terms[a, X0], terms[b, Y0] - terms[a, Y0]
+        predicted = abs(x0 * points[k, NY] - y0 * points[k, NX]) > 1e-9 * (ra + rb)
+        if untouched or predicted:
+            return
+    nx, ny = dx / dist, dy / dist
+    points[k, NX], points[k, NY] = nx, ny
+    reach_a, reach_b = ra + 0.5 * gap, -(rb + 0.5 * gap)
+    points[k, RAX], points[k, RAY] = nx * reach_a, ny * reach_a
+    points[k, RBX], points[k, RBY] = nx * reach_b, ny * reach_b
+    moved_x = (body[w, b, X] - terms[b, X0]) - (body[w, a, X] - terms[a, X0])
+    moved_y = (body[w, b, Y] - terms[b, Y0]) - (body[w, a, Y] - terms[a, Y0])
+    points[k, SEP0] = gap - (nx * moved_x + ny * moved_y)
+    set_jacobian(points, k, 0.0, 0.0, 0.0, 0.0)
+
+
+@kernel
+def follow_bodies(body, w, terms, points, ids, n) -> None:
+    """After the positions moved: both anchors of every point at one world point again.
+
+    Equal and opposite impulses at one world point exert no net torque, so contacts keep
+    angular momentum exactly. The narrowphase puts both anchors at one point, but the
+    bodies then move during the step; with each anchor kept at its offset from its own
+    centre, a pair that slid ``m`` past each other would be pushed at two points ``m``
+    apart and gain ``m x impulse``. So the anchor that is a material point of its body
+    (``narrowphase.anchor_kept``: a disc's surface below its centre, a box's vertex)
+    stays, and the other one goes to it: the point slides along the other body's
+    surface, as a real contact does. Two discs are the exception: both anchors stay on
+    the normal through their centres, so a normal impulse never spins a disc, and once
+    they touch that normal is their line of centres (``along_line_of_centres``). Before
+    they touch it is the line of centres at the predicted impact
+    (``narrowphase.circle_circle``), which gives the right departure angle; the price is
+    a torque ``m x impulse`` from the speculative push that brings them together, ``m``
+    at most the distance they slide past each other in the step (the one place where
+    contacts do not keep angular momentum exactly, an error of first order in ``dt``,
+    bounded in ``tests/scene_laws.py``)."""
+    for k in range(n):
+        keep = points[k, KEEP]
+        a, b = ids[k, 0], ids[k, 1]
+        if keep == 2.0:
+            along_line_of_centres(body, w, terms, points, k, a, b)
+            continue
+        mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
+        my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
+        if keep == 0.0:
+            set_jacobian(points, k, 0.0, 0.0, -mx, -my)
+        else:
+            set_jacobian(points, k, mx, my, 0.0, 0.0)
+
+
 @kernel
 def prepare(body, w, ctx, terms, points, ids, n) -> None:
     """Effective masses, mixed materials, softness and the normal velocity and
@@ -156,18 +244,11 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         nx, ny = points[k, NX], points[k, NY]
-        tx, ty = ny, -nx
-        rax, ray, rbx, rby = points[k, RAX], points[k, RAY], points[k, RBX], points[k, RBY]
         ima, iia = terms[a, STEP_INV_MASS], terms[a, STEP_INV_MOMENT]
         imb, iib = terms[b, STEP_INV_MASS], terms[b, STEP_INV_MOMENT]
         points[k, IMA], points[k, IIA], points[k, IMB], points[k, IIB] = ima, iia, imb, iib
-        rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
-        rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
-        points[k, RNA], points[k, RNB], points[k, RTA], points[k, RTB] = rna, rnb, rta, rtb
-        k_normal = ima + imb + iia * rna * rna + iib * rnb * rnb
-        k_tangent = ima + imb + iia * rta * rta + iib * rtb * rtb
-        points[k, NORMAL_MASS] = 1.0 / k_normal if k_normal > 0.0 else 0.0
-        points[k, TANGENT_MASS] = 1.0 / k_tangent if k_tangent > 0.0 else 0.0
+        set_jacobian(points, k, 0.0, 0.0, 0.0, 0.0)
+        rna, rnb = points[k, RNA], points[k, RNB]
         points[k, APPROACH_SPEED] = (
             -(nx * body[w, a, VX] + ny * body[w, a, VY])
             - rna * body[w, a, W]

@@ -73,6 +73,7 @@ from .workspace import (
     LEFT,
     MOVABLE,
     MOVING,
+    REACH,
     RIGHT,
     ROLL_H,
     SPEED,
@@ -85,11 +86,21 @@ from .workspace import (
 
 
 @kernel
+def step_terms(body, body_i, shapes, spring, ends, w, ctx, terms) -> None:
+    """Everything ``workspace`` lists per body for this step: ``body_terms``, then the
+    springs' share of each body's reach and the broadphase boxes grown by it."""
+    body_terms(body, body_i, shapes, w, ctx, terms)
+    if ends.shape[0]:
+        spring_reach(body, body_i, spring, ends, w, ctx, terms)
+    broadphase_boxes(body, body_i, shapes, w, ctx, terms)
+
+
+@kernel
 def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
     """Fill the step terms of every body of world ``w`` (see ``workspace``). (The loop
     body is written out here rather than called: a compiled helper that branches costs
     numba's reference counting of every array it is handed, per call.)"""
-    h, spec, dt = ctx[ctx_.H], ctx[ctx_.SPECULATIVE], ctx[ctx_.DT]
+    h, spec, substeps = ctx[ctx_.H], ctx[ctx_.SPECULATIVE], ctx[ctx_.SUBSTEPS]
     for i in range(shapes.shape[0]):
         kind, motion = shapes[i, 0], shapes[i, 1]
         enabled = body_i[w, i, ENABLED] == 1
@@ -114,13 +125,55 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
             terms[i, STEP_INV_MASS] = terms[i, STEP_INV_MOMENT] = 0.0
             terms[i, ACCEL_X] = terms[i, ACCEL_Y] = terms[i, ACCEL_W] = terms[i, ROLL_H] = 0.0
         vx, vy, turn, bound = body[w, i, VX], body[w, i, VY], body[w, i, W], body[w, i, BOUND]
+        # What the velocity can reach within the step: now, plus gravity's and the applied
+        # forces' gain over the substeps (springs: ``spring_reach``).
+        gain = substeps * (abs(terms[i, ACCEL_X]) + abs(terms[i, ACCEL_Y]))
+        gain += substeps * abs(terms[i, ACCEL_W]) * bound
         terms[i, SPEED] = abs(vx) + abs(vy) + abs(turn) * bound if moving else 0.0
+        terms[i, REACH] = terms[i, SPEED] + gain if moving else 0.0
         # Half of the speculative distance: the world's, but at most a quarter of the body's
         # size, so small bodies (pool balls) are not given contacts whole radii away. Planes
         # have no size and take the world's.
         terms[i, HALF_SPEC] = 0.5 * (spec if kind == PLANE else min(spec, 0.25 * bound))
+        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = (
+            body[w, i, X],
+            body[w, i, Y],
+            body[w, i, ANGLE],
+        )
+
+
+@kernel
+def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
+    """Add to each body's ``REACH`` what its springs can give it within the step: the
+    force at the step start over the step, ``|F| dt / m`` and ``|r x F| dt R / I``. A
+    stretched spring can fling a resting body across a plane in one step; the contacts
+    are made from this speed, so the plane is there to stop it."""
+    dt = ctx[ctx_.DT]
+    for k in range(ends.shape[0]):
+        if not spring_acts(body_i, spring, ends, w, k):
+            continue
+        a, b = ends[k, 0], ends[k, 1]
+        rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
+        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
+        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+        stretch = length - spring[w, k, REST_LENGTH]
+        force = abs(spring[w, k, STIFFNESS] * stretch) + abs(
+            spring[w, k, DAMPING] * (rvx * ux + rvy * uy)
+        )
+        for i, rx, ry in ((a, rax, ray), (b, rbx, rby)):
+            if terms[i, MOVING] == 1.0:
+                turn = abs(rx * uy - ry * ux) * terms[i, STEP_INV_MOMENT] * body[w, i, BOUND]
+                terms[i, REACH] += force * dt * (terms[i, STEP_INV_MASS] + turn)
+
+
+@kernel
+def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
+    """Each body's broadphase box (``LEFT`` ... ``TOP``, see ``workspace``)."""
+    dt = ctx[ctx_.DT]
+    for i in range(shapes.shape[0]):
+        kind = shapes[i, 0]
+        enabled = body_i[w, i, ENABLED] == 1
         x, y = body[w, i, X], body[w, i, Y]
-        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = x, y, body[w, i, ANGLE]
         hw, hh = body[w, i, HALF_W], body[w, i, HALF_H]
         if kind == BOX:
             c, s = abs(body[w, i, COS]), abs(body[w, i, SIN])
@@ -129,7 +182,7 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
             extent_x, extent_y = hw, hw
         # The broadphase box: the shape's box grown by how far the body can travel this
         # step and by half its speculative distance.
-        grow = terms[i, SPEED] * dt + terms[i, HALF_SPEC]
+        grow = terms[i, REACH] * dt + terms[i, HALF_SPEC]
         in_broadphase = enabled and (kind == CIRCLE or kind == BOX)
         terms[i, LEFT] = x - extent_x - grow if in_broadphase else np.inf
         terms[i, RIGHT] = x + extent_x + grow

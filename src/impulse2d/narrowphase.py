@@ -30,7 +30,7 @@ import math
 from . import settings as ctx_
 from ._jit import kernel
 from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
-from .workspace import HALF_SPEC, NX, NY, RAX, RAY, RBX, RBY, SEP0, SPEED
+from .workspace import AGAINST_PLANE, HALF_SPEC, KEEP, NX, NY, RAX, RAY, RBX, RBY, REACH, SEP0
 
 CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX, CIRCLE_PLANE, BOX_PLANE = range(5)
 FEATURES = 32  # feature ids are < 32 (box-box: 8 reference faces x 4 incident vertices)
@@ -323,6 +323,19 @@ def collide(kind, a, b, margin, tag):
 
 
 @kernel
+def anchor_kept(kind_a, kind_b, feature) -> float:
+    """Which anchor of a point is a material point that moves with its body
+    (``contacts.follow_bodies``): 0 A's, 1 B's, 2 both (two discs). A disc's point is on
+    its surface below its centre; a box's against a plane, its vertex; of two boxes, the
+    incident box's vertex (feature ids from 16 up have their reference face on B)."""
+    if kind_a == CIRCLE:
+        return 2.0 if kind_b == CIRCLE else 0.0
+    if kind_b == BOX:
+        return 0.0 if feature >= 16 else 1.0
+    return 0.0
+
+
+@kernel
 def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int:
     """The points of every candidate pair, in pair order and, within a pair, by feature.
     A pair's margin is what the two can close this step plus their speculative distances.
@@ -331,7 +344,7 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
     count = 0
     for k in range(n_pairs):
         a, b = pairs[k, 0], pairs[k, 1]
-        closing = (terms[a, SPEED] + terms[b, SPEED]) * dt
+        closing = (terms[a, REACH] + terms[b, REACH]) * dt
         margin = terms[a, HALF_SPEC] + terms[b, HALF_SPEC] + closing
         manifold = collide(
             pair_kind(shapes[a, 0], shapes[b, 0]),
@@ -351,6 +364,8 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
                 points[count, RAX], points[count, RAY] = point[0], point[1]
                 points[count, RBX], points[count, RBY] = point[2], point[3]
                 points[count, SEP0] = point[4]
+                points[count, KEEP] = anchor_kept(shapes[a, 0], shapes[b, 0], point[5])
+                points[count, AGAINST_PLANE] = 1.0 if shapes[b, 0] == PLANE else 0.0
                 ids[count, 0], ids[count, 1], ids[count, 2] = a, b, point[5]
             count += 1
     return count

@@ -28,15 +28,15 @@ import numpy as np
 from . import settings as ctx_
 from ._jit import JIT_DISABLED, clear_stale_cache, kernel, parallel_kernel
 from .broadphase import find_pairs
-from .contacts import carry_impulses, count_dormant, prepare, store
+from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
 from .events import break_bodies, record_contacts, sense
 from .integrate import (
     apply_springs,
-    body_terms,
     integrate_positions,
     integrate_velocities,
     refresh_rotation,
     spring_stability,
+    step_terms,
 )
 from .narrowphase import find_points
 from .sleep import update_sleep, wake_touched
@@ -115,7 +115,7 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
             return -1
         if not sleeping or not wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
             return n
-        body_terms(body, body_i, shapes, w, ctx, terms)
+        step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
 
 
 @kernel
@@ -131,6 +131,7 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
         warm_start(body, w, points, ids, n)
         solve(body, w, ctx, terms, points, ids, n, True)
         integrate_positions(body, w, terms, h)
+        follow_bodies(body, w, terms, points, ids, n)
         solve(body, w, ctx, terms, points, ids, n, False, substep == count - 1)
     restitution(body, w, ctx, terms, points, ids, n)
 
@@ -175,7 +176,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         rest_step(body, contact, world_i, time, w, ctx)
         return RUNNING
     terms, points, ids = scratch[0], scratch[1], scratch[3]
-    body_terms(body, body_i, shapes, w, ctx, terms)
+    step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
     n = collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row)
     if n < 0:
         return NEEDS_ROOM

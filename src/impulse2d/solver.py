@@ -32,6 +32,7 @@ from . import settings as ctx_
 from ._jit import inline, kernel
 from .state import ANGLE, VX, VY, W, X, Y
 from .workspace import (
+    AGAINST_PLANE,
     ANGLE0,
     APPROACH_SPEED,
     BEFORE_V,
@@ -145,6 +146,48 @@ def watched(points, k) -> bool:
     )
 
 
+@inline
+def solve_point(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
+    """Non-penetration, then friction, at point ``k`` (see ``solve``)."""
+    inv_h, push_speed = ctx[ctx_.INV_H], ctx[ctx_.PUSH_SPEED]
+    a, b = ids[k, 0], ids[k, 1]
+    s = current_separation(body, w, a, b, points, k, terms)
+    if s > 0.0:
+        untouched = points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0
+        if last and untouched and points[k, SHARED] == 0.0:
+            # The last relax pass, for a lone point that has not touched: limiting the
+            # approach here would be for the next step's first substep, which limits
+            # it itself before anything moves. Done here it slowed a ball before it
+            # arrived and counted as an impact, which restitution bounced in mid-air.
+            # (A pair's several points are coupled through its bodies' turning: their
+            # one sweep per pass needs this second one, or a box landing fast on a
+            # face can sink a corner; Box2D keeps it for every point.)
+            return
+        bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0  # speculative: arrive, no more
+    elif use_bias:
+        mass_scale, impulse_scale = points[k, MASS_SCALE], points[k, IMPULSE_SCALE]
+        bias = max(mass_scale * points[k, BIAS_RATE] * s, -push_speed)
+    else:
+        bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
+    vn = normal_velocity(body, w, a, b, points, k)
+    accumulated = points[k, NORMAL_J]
+    impulse = -points[k, NORMAL_MASS] * (mass_scale * vn + bias) - impulse_scale * accumulated
+    total = max(accumulated + impulse, 0.0)
+    change = total - accumulated
+    points[k, NORMAL_J] = total
+    points[k, STEP_J] += change
+    points[k, MAX_J] = max(points[k, MAX_J], change)
+    push(body, w, a, b, points, k, change, 0.0)
+    friction = points[k, MIXED_FRICTION]
+    if friction > 0.0:
+        vt = tangent_velocity(body, w, a, b, points, k)
+        limit = friction * total
+        old = points[k, TANGENT_J]
+        new = min(max(old - points[k, TANGENT_MASS] * vt, -limit), limit)
+        push(body, w, a, b, points, k, 0.0, new - old)
+        points[k, TANGENT_J] = new
+
+
 @kernel
 def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     """One Gauss-Seidel sweep over the points, in order: non-penetration, then friction
@@ -154,48 +197,18 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     impulse stays >= 0 (contacts push, never pull); friction is clamped to the Coulomb
     cone ``|lambda_t| <= mu lambda_n``. Restitution needs, for points that share their
     pair, the normal velocity at which a point first pushes; it is read before the sweep,
-    so the order in which a box's two corners are solved does not change it."""
-    inv_h, push_speed = ctx[ctx_.INV_H], ctx[ctx_.PUSH_SPEED]
+    so the order in which a box's two corners are solved does not change it.
+
+    Points against a plane are solved after all others: in Gauss-Seidel the last
+    constraint solved holds exactly, and a plane, the world's boundary, must win over a
+    kinematic body squeezing a body against it (whose push it then undoes)."""
     for k in range(n):
         if watched(points, k) and points[k, IMPACT_V] == 0.0:
             points[k, BEFORE_V] = normal_velocity(body, w, ids[k, 0], ids[k, 1], points, k)
-    for k in range(n):
-        a, b = ids[k, 0], ids[k, 1]
-        s = current_separation(body, w, a, b, points, k, terms)
-        if s > 0.0:
-            untouched = points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0
-            if last and untouched and points[k, SHARED] == 0.0:
-                # The last relax pass, for a lone point that has not touched: limiting the
-                # approach here would be for the next step's first substep, which limits
-                # it itself before anything moves. Done here it slowed a ball before it
-                # arrived and counted as an impact, which restitution bounced in mid-air.
-                # (A pair's several points are coupled through its bodies' turning: their
-                # one sweep per pass needs this second one, or a box landing fast on a
-                # face can sink a corner; Box2D keeps it for every point.)
-                continue
-            bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0  # speculative: arrive, no more
-        elif use_bias:
-            mass_scale, impulse_scale = points[k, MASS_SCALE], points[k, IMPULSE_SCALE]
-            bias = max(mass_scale * points[k, BIAS_RATE] * s, -push_speed)
-        else:
-            bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        vn = normal_velocity(body, w, a, b, points, k)
-        accumulated = points[k, NORMAL_J]
-        impulse = -points[k, NORMAL_MASS] * (mass_scale * vn + bias) - impulse_scale * accumulated
-        total = max(accumulated + impulse, 0.0)
-        change = total - accumulated
-        points[k, NORMAL_J] = total
-        points[k, STEP_J] += change
-        points[k, MAX_J] = max(points[k, MAX_J], change)
-        push(body, w, a, b, points, k, change, 0.0)
-        friction = points[k, MIXED_FRICTION]
-        if friction > 0.0:
-            vt = tangent_velocity(body, w, a, b, points, k)
-            limit = friction * total
-            old = points[k, TANGENT_J]
-            new = min(max(old - points[k, TANGENT_MASS] * vt, -limit), limit)
-            push(body, w, a, b, points, k, 0.0, new - old)
-            points[k, TANGENT_J] = new
+    for boundary in range(2):
+        for k in range(n):
+            if points[k, AGAINST_PLANE] == boundary:
+                solve_point(body, w, ctx, terms, points, ids, k, use_bias, last)
     for k in range(n):
         if watched(points, k) and points[k, IMPACT_V] == 0.0 and points[k, MAX_J] > 0.0:
             points[k, IMPACT_V] = points[k, BEFORE_V]

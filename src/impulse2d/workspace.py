@@ -13,7 +13,9 @@ Body terms ``terms`` (N, TERMS) float64, for the current step:
 * ``ACCEL_X``, ``ACCEL_Y``, ``ACCEL_W``: ``h`` times the acceleration from gravity and the
   applied force and torque;
 * ``ROLL_H``: ``h`` times the rolling resistance;
-* ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s);
+* ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s),
+  what sleeping compares; ``REACH``: that plus what gravity, forces and springs can add
+  within the step, what the contacts are made from;
 * ``HALF_SPEC``: half the body's speculative distance;
 * ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step;
 * ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box, the shape's axis-aligned
@@ -44,7 +46,8 @@ ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 4, 5, 6, 7
 SPEED, HALF_SPEC = 8, 9
 X0, Y0, ANGLE0 = 10, 11, 12
 LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
-TERMS = 17
+REACH = 17  # SPEED plus what gravity, forces and springs can add within the step (m/s)
+TERMS = 18
 
 # The columns a solver sweep reads come first, so a point's hot data spans three cache
 # lines, not four.
@@ -62,7 +65,9 @@ IMPACT_V, BEFORE_V = 28, 29  # normal velocity when the point first pushed; befo
 SHARED = 30  # 1.0 if the point's pair has another point
 TARGET = 31  # restitution: the normal velocity to reach
 BOUNCE = 32  # restitution: 0 not bouncing, 1 alone in its pair, 2 sharing the pair's bounce
-POINT_F = 33
+KEEP = 33  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
+AGAINST_PLANE = 34  # 1.0 if B is a plane (solved last, see solver.solve)
+POINT_F = 35
 MERGED_F = 9  # = state.CONTACT_F: the contact cache being written
 
 

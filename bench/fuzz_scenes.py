@@ -1,0 +1,175 @@
+"""The long fuzz run: thousands of random scenes from the whole envelope, every law checked.
+
+Scenes come from ``tests/scenes_random.py`` with ``wide=True`` (sizes from 0.3 mm to
+200 m around a scale drawn from 3 mm to 20 m, masses anywhere in 1 mg - 1000 t with up to
+6 decades within a scene, speeds up to 200 m/s, dt from 0.1 ms to 0.1 s, 1-8 substeps),
+in four families, each checked for the laws that apply to it (``tests/scene_laws.py``):
+
+* ``any``: every kind of body, planes, springs, gravity: the state stays finite; world
+  0 of a batch of 3 is bitwise the world alone; snapshot, step, restore, step repeats;
+* ``planes``: at least one plane, fixed and kinematic bodies and springs: no dynamic
+  body's centre gets behind a plane;
+* ``conservative``: no gravity, springs or kinematic bodies, no overlap at the start:
+  kinetic energy never more than 1 % above the start;
+* ``free``: dynamic bodies only, no planes, gravity or springs, sleeping off: linear and
+  angular momentum kept to 1e-9 of their scale (beyond what the impact of two discs may
+  exert, ``scene_laws.disc_torque_bound``);
+* ``free boxes``: the same with boxes only, and springs: exactly, to 1e-9.
+
+Run: ``python bench/fuzz_scenes.py --scenes 10000`` (about an hour on one core; Ctrl-C
+prints what it has so far). Prints a progress line every few seconds (also into a log),
+then a table of scenes and failures by family and law, and writes the first failing
+scenes of each law as stand-alone snippets to ``--out`` (default
+``fuzz_failures.py``). Exit status 1 if anything failed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from hypothesis import HealthCheck, Phase, given, seed, settings
+
+import scene_laws as laws
+import scenes_random as sr
+
+STEPS = 200
+FAMILIES = {
+    "any": {},
+    "planes": {"min_planes": 1},
+    "conservative": {
+        "motions": ("dynamic", "fixed"),
+        "springs": False,
+        "gravity": False,
+        "overlap": 0.0,
+    },
+    "free": {"motions": ("dynamic",), "max_planes": 0, "gravity": False, "springs": False},
+    "free boxes": {"motions": ("dynamic",), "max_planes": 0, "gravity": False, "kinds": ("box",)},
+}
+
+
+def check(family: str, scene: sr.Scene) -> list[str]:
+    """The laws ``scene`` broke (a family's laws, see the module docstring)."""
+    broken = []
+    if family == "any":
+        world = sr.build(scene)
+        for _ in range(STEPS):
+            world.step(scene.dt)
+        if not laws.finite(world):
+            return ["finite"]
+        if laws.batch_differs_from_single(scene, 60):
+            broken.append("batch == single")
+        if laws.replay_differs(scene, 30, 30):
+            broken.append("snapshot replay")
+    elif family == "planes":
+        depth = laws.plane_excess(sr.build(scene), scene.dt, STEPS)
+        broken += ["finite"] if depth == float("inf") else ["in front of planes"] * (depth > 0)
+    elif family == "conservative":
+        world = sr.build(scene)
+        if laws.energy_excess(world, scene.dt, STEPS) > 1.0:
+            broken.append("energy")
+        broken += [] if laws.finite(world) else ["finite"]
+    else:  # free, free boxes
+        world = sr.build(scene, sleeping=False)
+        linear, angular = laws.momentum_excess(world, scene.dt, STEPS)
+        broken += ["linear momentum"] * (linear > 1.0) + ["angular momentum"] * (angular > 1.0)
+        broken += [] if laws.finite(world) else ["finite"]
+    return broken
+
+
+class Tally:
+    def __init__(self, total: int, out: Path) -> None:
+        self.total, self.out, self.done, self.start = total, out, 0, time.time()
+        self.scenes: Counter = Counter()
+        self.failures: Counter = Counter()
+        self.examples: dict[tuple[str, str], list[str]] = {}
+        self.last_print = 0.0
+
+    def record(self, family: str, scene: sr.Scene, broken: list[str]) -> None:
+        self.done += 1
+        self.scenes[family] += 1
+        for law in broken:
+            self.failures[(family, law)] += 1
+            kept = self.examples.setdefault((family, law), [])
+            snippet = sr.code(scene)
+            if len(kept) < 20 and snippet not in kept:
+                kept.append(snippet)
+        now = time.time()
+        if now - self.last_print > 5.0 or self.done == self.total:
+            self.last_print = now
+            rate = self.done / (now - self.start)
+            print(
+                f"[{self.done}/{self.total}] {rate:.1f} scenes/s, "
+                f"{sum(self.failures.values())} failures, "
+                f"about {(self.total - self.done) / rate / 60:.0f} min left",
+                flush=True,
+            )
+
+    def report(self) -> int:
+        print("\n| family | scenes | law | failures |\n|---|---|---|---|")
+        laws_of = {
+            "any": ["finite", "batch == single", "snapshot replay"],
+            "planes": ["finite", "in front of planes"],
+            "conservative": ["finite", "energy"],
+            "free": ["finite", "linear momentum", "angular momentum"],
+            "free boxes": ["finite", "linear momentum", "angular momentum"],
+        }
+        for family, names in laws_of.items():
+            for law in names:
+                count = self.failures[(family, law)]
+                print(f"| {family} | {self.scenes[family]} | {law} | {count} |")
+        total = sum(self.failures.values())
+        print(f"\n{self.done} scenes, {STEPS} steps each, {total} failures")
+        if self.examples:
+            lines = []
+            for (family, law), snippets in self.examples.items():
+                for snippet in snippets:
+                    lines += [f"# {family}: {law}", snippet, ""]
+            self.out.write_text("\n".join(lines))
+            print(f"failing scenes written to {self.out}")
+        return 1 if total else 0
+
+
+def run_family(family: str, count: int, run_seed: int, tally: Tally) -> None:
+    strategy = sr.scenes(wide=True, **FAMILIES[family])
+
+    @seed(run_seed)
+    @settings(
+        max_examples=count,
+        database=None,
+        deadline=None,
+        phases=[Phase.generate],  # count failures; no time on shrinking them
+        suppress_health_check=list(HealthCheck),
+    )
+    @given(scene=strategy)
+    def scenes(scene: sr.Scene) -> None:
+        tally.record(family, scene, check(family, scene))
+
+    scenes()
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", type=int, default=2000, help="scenes in all (default 2000)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--families", default=",".join(FAMILIES))
+    parser.add_argument("--out", type=Path, default=Path("fuzz_failures.py"))
+    args = parser.parse_args()
+    families = args.families.split(",")
+    each = max(1, args.scenes // len(families))
+    tally = Tally(each * len(families), args.out)
+    try:
+        for i, family in enumerate(families):
+            run_family(family, each, args.seed * 100 + i, tally)
+    except KeyboardInterrupt:
+        print("interrupted")
+    return tally.report()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

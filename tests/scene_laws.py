@@ -1,0 +1,188 @@
+"""The laws every random scene must obey, as measurements (``test_random_scenes.py``
+asserts them over a few hundred scenes, ``bench/fuzz_scenes.py`` counts them over
+thousands).
+
+Each ``*_excess`` function steps a world and returns the worst violation seen, scaled so
+that a value above 1 breaks the law (0 or below: held with room to spare).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import impulse2d as p2
+import scenes_random as sr
+from impulse2d.state import ANGLE, HEALTH, MASS, MOMENT, VX, VY, W, X, Y
+
+ENERGY_TOLERANCE = 0.01  # relative kinetic energy gain allowed (solver error)
+MOMENTUM_TOLERANCE = 1e-9  # relative drift of linear and angular momentum
+
+
+def finite(world: p2.World) -> bool:
+    """Every float of the state finite (health may be +inf: unbreakable), and the energy."""
+    arrays = world.state.arrays()
+    body = np.delete(arrays.pop("body"), HEALTH, axis=-1)
+    floats = [a for a in arrays.values() if a.dtype.kind == "f"]
+    return bool(np.isfinite(body).all() and all(np.isfinite(a).all() for a in floats)) and (
+        math.isfinite(world.energy().total)
+    )
+
+
+def movers(world: p2.World) -> list:
+    """The circles and boxes that can be given a velocity (dynamic and kinematic)."""
+    return [b for b in world.bodies if not isinstance(b, p2.Plane) and not b.fixed]
+
+
+def signed_distances(world: p2.World) -> np.ndarray:
+    """(dynamic bodies, planes) signed distance of each centre to each plane (m, > 0: in
+    front)."""
+    bodies = [b for b in movers(world) if not b.kinematic]
+    planes = [b for b in world.bodies if isinstance(b, p2.Plane)]
+    if not bodies or not planes:
+        return np.zeros((0, 0))
+    centres = np.array([b.position for b in bodies])
+    return np.array([(centres - p.point) @ p.normal for p in planes]).T
+
+
+def kinetic(world: p2.World) -> float:
+    e = world.energy()
+    return e.kinetic_linear + e.kinetic_rotational
+
+
+def momenta(world: p2.World) -> tuple[np.ndarray, float]:
+    """Total linear momentum (2,) and angular momentum about the origin of world 0."""
+    body = world.state.body[0, : len(world.bodies)]
+    m, x, y = body[:, MASS], body[:, X], body[:, Y]
+    vx, vy, w = body[:, VX], body[:, VY], body[:, W]
+    linear = np.array([(m * vx).sum(), (m * vy).sum()])
+    return linear, float((m * (x * vy - y * vx)).sum() + (body[:, MOMENT] * w).sum())
+
+
+def momentum_scales(world: p2.World) -> tuple[float, float]:
+    """What the momenta are measured against: the sums of the magnitudes, ``sum m |v|``
+    and ``sum m |x x v| + I |w|`` (a total near zero, bodies flying apart, has no
+    relative error of its own)."""
+    body = world.state.body[0, : len(world.bodies)]
+    m, x, y = body[:, MASS], body[:, X], body[:, Y]
+    vx, vy, w = body[:, VX], body[:, VY], body[:, W]
+    linear = float((m * np.hypot(vx, vy)).sum())
+    angular = float(
+        (m * np.hypot(x, y) * np.hypot(vx, vy)).sum() + (body[:, MOMENT] * abs(w)).sum()
+    )
+    return linear, angular
+
+
+def plane_excess(world: p2.World, dt: float, steps: int) -> float:
+    """How far (m) the deepest centre got behind a plane over ``steps`` steps, positive
+    when it did (0 if the scene has no planes). Stops early at a non-finite number
+    (``inf``)."""
+    deepest = -np.inf
+    for _ in range(steps):
+        world.step(dt)
+        d = signed_distances(world)
+        if d.size:
+            if not np.isfinite(d).all():
+                return np.inf
+            deepest = max(deepest, float(-d.min()))
+    return deepest if np.isfinite(deepest) else 0.0
+
+
+def energy_excess(world: p2.World, dt: float, steps: int) -> float:
+    """The largest kinetic energy gain over the start, over ``ENERGY_TOLERANCE`` times the
+    start (+1e-12 J)."""
+    start = kinetic(world)
+    worst = 0.0
+    for _ in range(steps):
+        world.step(dt)
+        worst = max(worst, kinetic(world) - start)
+    return worst / (ENERGY_TOLERANCE * start + 1e-12)
+
+
+def disc_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float:
+    """An upper bound of the angular momentum the last step's disc-disc contacts may
+    exert (``contacts.follow_bodies``): each point pushed along the line of centres at
+    impact, from where the discs were at the step start, ``m`` from it with ``|m| <= dt
+    |relative velocity|``; so at most ``dt u J`` for a point of impulse ``J``, ``u`` the
+    larger relative speed of the pair at the start and end of the step."""
+    _, slot_a, slot_b, impulse = world.touches()
+    discs = np.array([isinstance(b, p2.Circle) for b in world.objects["bodies"] if b is not None])
+    kinds = np.zeros(len(world.objects["bodies"]), bool)
+    kinds[: discs.size] = discs
+    both = kinds[slot_a] & kinds[slot_b]
+    if not both.any():
+        return 0.0
+    after = world.state.body[0, :, VX : VY + 1]
+    a, b, j = slot_a[both], slot_b[both], impulse[both]
+    u = np.maximum(np.hypot(*(before[b] - before[a]).T), np.hypot(*(after[b] - after[a]).T))
+    return float((dt * u * j).sum())
+
+
+def momentum_excess(world: p2.World, dt: float, steps: int) -> tuple[float, float]:
+    """The largest drift of linear and of angular momentum over ``steps`` steps, each over
+    ``MOMENTUM_TOLERANCE`` times its scale: the largest ``momentum_scales`` seen so far
+    (rounding grows with the magnitudes summed, which a spring can raise), at least 1e-3.
+    The angular drift is counted beyond what disc-disc impacts may exert
+    (``disc_torque_bound``, summed over the steps); without two discs that is 0."""
+    p0, l0 = momenta(world)
+    sp, sl = momentum_scales(world)
+    worst_p = worst_l = allowance = 0.0
+    for _ in range(steps):
+        before = world.state.body[0, :, VX : VY + 1].copy()
+        world.step(dt)
+        allowance += disc_torque_bound(world, before, dt)
+        p, angular = momenta(world)
+        now_p, now_l = momentum_scales(world)
+        sp, sl = max(sp, now_p), max(sl, now_l)
+        tp, tl = MOMENTUM_TOLERANCE * max(sp, 1e-3), MOMENTUM_TOLERANCE * max(sl, 1e-3)
+        worst_p = max(worst_p, float(np.hypot(*(p - p0))) / tp)
+        worst_l = max(worst_l, (abs(angular - l0) - allowance) / tl)
+    return worst_p, worst_l
+
+
+def make_worlds_differ(batch: p2.World) -> None:
+    """Give worlds 1.. of a batch other velocities (world 0 keeps its own, so it is not
+    woken) and switch the first body off in the last world."""
+    for i, body in enumerate(movers(batch)):
+        v, spin = np.array(body.velocity), np.array(body.angular_velocity)
+        for k in range(1, batch.batch_size):
+            v[k] = -0.5 * v[k] + (1.5 * k, 0.3 * i)
+            spin[k] = 0.5 * spin[k] - k
+        body.velocity, body.angular_velocity = v, spin
+    if batch.batch_size > 2 and batch.bodies:
+        mask = np.ones(batch.batch_size, dtype=bool)
+        mask[-1] = False
+        batch.bodies[0].enabled = mask
+
+
+def batch_differs_from_single(scene: sr.Scene, steps: int, batch_size: int = 3) -> bool:
+    """Whether world 0 of a batch (worlds 1.. moving otherwise) ends bitwise different
+    from the scene stepped alone."""
+    single, batch = sr.build(scene), sr.build(scene, batch_size=batch_size, threads=1)
+    make_worlds_differ(batch)
+    for _ in range(steps):
+        single.step(scene.dt)
+        batch.step(scene.dt)
+    return sr.world_arrays(batch, 0) != sr.world_arrays(single)
+
+
+def replay_differs(scene: sr.Scene, before: int, after: int) -> bool:
+    """Whether stepping ``after`` steps from a snapshot taken after ``before`` steps, then
+    restoring it and stepping again, gives bitwise different states."""
+    world = sr.build(scene)
+    for _ in range(before):
+        world.step(scene.dt)
+    snap = world.snapshot()
+    for _ in range(after):
+        world.step(scene.dt)
+    first = sr.world_arrays(world)
+    world.restore(snap)
+    for _ in range(after):
+        world.step(scene.dt)
+    return sr.world_arrays(world) != first
+
+
+def poses_finite(world: p2.World) -> bool:
+    body = world.state.body[0, : len(world.bodies)]
+    return bool(np.isfinite(body[:, [X, Y, ANGLE, VX, VY, W]]).all())
