@@ -100,21 +100,33 @@ def energy_excess(world: p2.World, dt: float, steps: int) -> float:
     return worst / (ENERGY_TOLERANCE * start + 1e-12)
 
 
-def disc_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float:
-    """An upper bound of the angular momentum the last step's disc-disc contacts may
-    exert (``contacts.follow_bodies``): each point pushed along the line of centres at
-    impact, from where the discs were at the step start, ``m`` from it with ``|m| <= dt
-    |relative velocity|``; so at most ``dt u J`` for a point of impulse ``J``, ``u`` the
-    larger relative speed of the pair at the start and end of the step."""
-    _, slot_a, slot_b, impulse = world.touches()
-    discs = np.array([isinstance(b, p2.Circle) for b in world.objects["bodies"] if b is not None])
-    kinds = np.zeros(len(world.objects["bodies"]), bool)
-    kinds[: discs.size] = discs
-    both = kinds[slot_a] & kinds[slot_b]
-    if not both.any():
+def impact_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float:
+    """An upper bound of the angular momentum the last step's impacts may exert
+    (``contacts.follow_bodies``): the points of two discs, and the points that may bounce
+    (a restitution > 0, closing faster than the threshold at the step start), keep the
+    Jacobian of the step start, ``m`` off the one world point with ``|m| <= dt |relative
+    velocity|``; so at most ``dt u J`` for a point of impulse ``J``, ``u`` the larger
+    relative speed of the pair at the start and end of the step. Every other point
+    pushes both bodies at one world point and exerts nothing."""
+    c = world.contacts()
+    if c.size == 0:
+        return 0.0
+    slots = world.objects["bodies"]
+    disc = np.array([isinstance(slots[i], p2.Circle) for i in range(len(slots))] + [False])
+    bouncy = np.array(
+        [
+            slots[i] is not None and float(np.max(slots[i].restitution)) > 0.0
+            for i in range(len(slots))
+        ]
+        + [False]
+    )
+    a, b = c.slot_a, c.slot_b
+    bounce = (bouncy[a] | bouncy[b]) & (c.approach < -world.restitution_threshold)
+    kept = (disc[a] & disc[b]) | bounce
+    if not kept.any():
         return 0.0
     after = world.state.body[0, :, VX : VY + 1]
-    a, b, j = slot_a[both], slot_b[both], impulse[both]
+    a, b, j = a[kept], b[kept], c.impulse[kept]
     u = np.maximum(np.hypot(*(before[b] - before[a]).T), np.hypot(*(after[b] - after[a]).T))
     return float((dt * u * j).sum())
 
@@ -123,15 +135,15 @@ def momentum_excess(world: p2.World, dt: float, steps: int) -> tuple[float, floa
     """The largest drift of linear and of angular momentum over ``steps`` steps, each over
     ``MOMENTUM_TOLERANCE`` times its scale: the largest ``momentum_scales`` seen so far
     (rounding grows with the magnitudes summed, which a spring can raise), at least 1e-3.
-    The angular drift is counted beyond what disc-disc impacts may exert
-    (``disc_torque_bound``, summed over the steps); without two discs that is 0."""
+    The angular drift is counted beyond what impacts may exert (``impact_torque_bound``,
+    summed over the steps); without bounces or two discs that is 0."""
     p0, l0 = momenta(world)
     sp, sl = momentum_scales(world)
     worst_p = worst_l = allowance = 0.0
     for _ in range(steps):
         before = world.state.body[0, :, VX : VY + 1].copy()
         world.step(dt)
-        allowance += disc_torque_bound(world, before, dt)
+        allowance += impact_torque_bound(world, before, dt)
         p, angular = momenta(world)
         now_p, now_l = momentum_scales(world)
         sp, sl = max(sp, now_p), max(sl, now_l)
@@ -186,3 +198,66 @@ def replay_differs(scene: sr.Scene, before: int, after: int) -> bool:
 def poses_finite(world: p2.World) -> bool:
     body = world.state.body[0, : len(world.bodies)]
     return bool(np.isfinite(body[:, [X, Y, ANGLE, VX, VY, W]]).all())
+
+
+# -- the families of wide scenes, and the laws each must obey -----------------------------------
+# Keywords of ``scenes_random.scenes(wide=True, ...)`` for each family.
+FAMILIES: dict[str, dict] = {
+    "any": {},
+    "planes": {"min_planes": 1},
+    "conservative": {
+        "motions": ("dynamic", "fixed"),
+        "springs": False,
+        "gravity": False,
+        "overlap": 0.0,
+    },
+    "free": {"motions": ("dynamic",), "max_planes": 0, "gravity": False, "springs": False},
+    "free boxes": {"motions": ("dynamic",), "max_planes": 0, "gravity": False, "kinds": ("box",)},
+}
+LEFT_THE_ENVELOPE = "left the envelope"
+
+
+def check(family: str, scene: sr.Scene, steps: int) -> list[str]:
+    """The laws ``scene`` of ``family`` broke over ``steps`` steps, or
+    ``[LEFT_THE_ENVELOPE]`` if a step refused it (a spring stretched so far that it pulls
+    harder than the envelope allows: the one value a scene can take out of it itself).
+
+    * any: the state stays finite; world 0 of a batch of 3 is bitwise the world alone;
+      snapshot, step, restore, step repeats;
+    * planes: no dynamic body's centre gets behind a plane;
+    * conservative: kinetic energy never more than 1 % above the start;
+    * free, free boxes: linear and angular momentum kept (``momentum_excess``)."""
+    try:
+        return _broken(family, scene, steps)
+    except ValueError as error:
+        if "supported range" not in str(error):
+            raise
+        return [LEFT_THE_ENVELOPE]
+
+
+def _broken(family: str, scene: sr.Scene, steps: int) -> list[str]:
+    broken = []
+    if family == "any":
+        world = sr.build(scene)
+        for _ in range(steps):
+            world.step(scene.dt)
+        if not finite(world):
+            return ["finite"]
+        if batch_differs_from_single(scene, min(steps, 60)):
+            broken.append("batch == single")
+        if replay_differs(scene, min(steps, 30), min(steps, 30)):
+            broken.append("snapshot replay")
+    elif family == "planes":
+        depth = plane_excess(sr.build(scene), scene.dt, steps)
+        broken += ["finite"] if depth == np.inf else ["in front of planes"] * (depth > 0)
+    elif family == "conservative":
+        world = sr.build(scene)
+        if energy_excess(world, scene.dt, steps) > 1.0:
+            broken.append("energy")
+        broken += [] if finite(world) else ["finite"]
+    else:
+        world = sr.build(scene, sleeping=False)
+        linear, angular = momentum_excess(world, scene.dt, steps)
+        broken += ["linear momentum"] * (linear > 1.0) + ["angular momentum"] * (angular > 1.0)
+        broken += [] if finite(world) else ["finite"]
+    return broken

@@ -22,6 +22,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 import impulse2d as p2
+from impulse2d.envelope import ACCELERATION
 from impulse2d.state import CONTACT_COUNT
 
 GRAVITY = (0.0, -9.81)
@@ -115,7 +116,11 @@ def _moment(body: BodySpec) -> float:
 def spring_values(scene: Scene) -> dict:
     """Keyword arguments of the scene's Spring: stiffness and damping as the drawn
     fractions of the stability limit ``h^2 k w + 2 h c w < 4`` at the substep ``h``,
-    with ``w`` an upper bound of the inverse effective mass along the spring."""
+    with ``w`` an upper bound of the inverse effective mass along the spring; each then
+    capped so its pull stays inside the envelope's acceleration (``World.step`` refuses
+    a spring that pulls its anchors apart faster, ``(k |L - L0| + c |v|) w``): a quarter
+    of it for a stretch up to the start's plus the rest length plus 1 m, and for the
+    damping a quarter at twice the fastest body's speed plus 10 m/s."""
     s = scene.spring
     a, b = scene.bodies[s.a], scene.bodies[s.b]
     ha, hb = _half(a), _half(b)
@@ -124,10 +129,14 @@ def spring_values(scene: Scene) -> dict:
     w = 1 / a.mass + 1 / b.mass + math.hypot(*ra) ** 2 / _moment(a)
     w += math.hypot(*rb) ** 2 / _moment(b)
     h = scene.dt / scene.substeps
+    start = math.hypot(b.x - a.x, b.y - a.y) + math.hypot(*ra) + math.hypot(*rb)
+    stretch = abs(start - s.rest_length) + s.rest_length + 1.0
+    fastest = max(math.hypot(body.vx, body.vy) for body in scene.bodies)
+    pull = 0.25 * ACCELERATION / w
     return {
         "rest_length": s.rest_length,
-        "stiffness": s.stiffness * 2.0 / (h * h * w),
-        "damping": s.damping / (h * w),
+        "stiffness": min(s.stiffness * 2.0 / (h * h * w), pull / stretch),
+        "damping": min(s.damping / (h * w), pull / (2.0 * fastest + 10.0)),
         "anchor1": ra,
         "anchor2": rb,
     }

@@ -15,13 +15,15 @@ from conftest import DT, G, run, trace
 @pytest.mark.parametrize("mu", [0.2, 0.5, 0.8])
 def test_sliding_box_stopping_distance(mu, v0):
     """Kinetic friction decelerates at mu g: the box stops after d = v0^2 / (2 mu g) (+-6%),
-    at t = v0 / (mu g) (+-6%)."""
+    at t = v0 / (mu g) (+-6%). (Stopped: slower than 5 mm/s. Sliding, friction presses the
+    box's leading edge harder into the ground; when it stops the box rocks back onto both
+    corners, which moves its centre by a few mm/s for a step or two.)"""
     world = p2.World(sleeping=False)
     world.add(p2.Plane(friction=mu))
     box = world.add(p2.Box(position=(0.0, 0.5), velocity=(v0, 0.0), friction=mu))
     t, v = trace(world, v0 / (mu * G) + 1.0, lambda: box.velocity[0])
     assert box.position[0] == pytest.approx(v0**2 / (2 * mu * G), rel=0.06)
-    stopped = t[np.argmax(np.abs(v) < 1e-3)]
+    stopped = t[np.argmax(np.abs(v) < 5e-3)]
     assert stopped == pytest.approx(v0 / (mu * G), rel=0.06)
     assert abs(box.velocity[0]) < 1e-3 and abs(box.angle) < 1e-3  # stopped, did not tip
 

@@ -339,15 +339,15 @@ def test_drag_action_launches_the_cue_ball_along_the_drag(drag, speed):
 # -- observations ----------------------------------------------------------------------------
 @pytest.mark.parametrize("layout", ["rack", "random"])
 def test_observation_stays_in_bounds(layout):
-    """After random strokes on three tables the observations are float32 of the declared
-    size within the declared bounds; a potted ball reads (0, 0, 1) and a ball on the
-    table its position / (1.27, 0.635) with flag 0."""
+    """After each of six random strokes on three tables the observations are float32 of
+    the declared size within the declared bounds; a potted ball reads (0, 0, 1) and a
+    ball on the table its position / (1.27, 0.635) with flag 0."""
     game = PoolGame(3, num_balls=15, layout=layout, max_shot_seconds=5.0)
     worlds = np.arange(3)
     game.seed(worlds, [10, 11, 12])
     game.reset(worlds)
     rng = np.random.default_rng(0)
-    for _ in range(3):
+    for _ in range(6):
         game.shoot(worlds, rng.uniform(-1.0, 1.0, size=(3, 2)))
         obs = game.observe()
         assert obs.dtype == np.float32 and obs.shape == (3, game.observation_size)
@@ -361,4 +361,4 @@ def test_observation_stays_in_bounds(layout):
         np.testing.assert_allclose(balls[on][:, 0], pose[0][on] / (TABLE_LENGTH / 2), atol=1e-6)
         np.testing.assert_allclose(balls[on][:, 1], pose[1][on] / (TABLE_WIDTH / 2), atol=1e-6)
         assert np.all(balls[on][:, 2] == 0.0)
-    assert game.potted[:, 1:].any(), "three strokes on three tables should pot something"
+    assert game.potted[:, 1:].any(), "six strokes on three tables should pot something"

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import integrate, narrowphase, workspace
+from impulse2d import broadphase, integrate, narrowphase, workspace
 from impulse2d.narrowphase import (
     BOX_BOX,
     BOX_PLANE,
@@ -272,6 +272,7 @@ def _box_plane_points(angle, height, spin) -> list[int]:
         state.body, state.body_i, shapes, state.spring, world.layout.springs, 0, ctx, terms
     )
     pairs = np.array([[body.slot, ground.slot]], np.int64)
+    broadphase.pushed_reach(state.body, shapes, 0, ctx, terms, pairs, 0)  # no other body
     points = np.zeros((8, workspace.POINT_F))
     ids = np.zeros((8, 3), np.int64)
     n = narrowphase.find_points(state.body, shapes, 0, ctx, terms, pairs, 1, points, ids)

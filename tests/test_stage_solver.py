@@ -236,7 +236,7 @@ def test_sliding_box_decelerates_at_mu_g(mu, v0):
         assert abs(crate.angle) < 1e-3
         if t < stop - DT:
             assert v == pytest.approx(v0 - mu * G * t, abs=0.01 * mu * G * t)
-        if stopped_at is None and v < 1e-6:
+        if stopped_at is None and v < 1e-4:  # stopped: the rock-back is a few um/s
             stopped_at = t
     assert stopped_at == pytest.approx(stop, abs=DT)
 

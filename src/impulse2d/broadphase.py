@@ -23,9 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import settings as ctx_
 from ._jit import inline, kernel
-from .state import DYNAMIC, ENABLED, PLANE, SAP_ORDER
-from .workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
+from .state import DYNAMIC, ENABLED, PLANE, RESTITUTION, SAP_ORDER
+from .workspace import BOTTOM, LEFT, MOVABLE, MOVING, PUSHED, REACH, RIGHT, TOP
 
 
 @kernel
@@ -128,10 +129,33 @@ def canonical_order(pairs, count, scratch, buckets) -> None:
 
 
 @kernel
+def pushed_reach(body, shapes, w, ctx, terms, pairs, count) -> None:
+    """Each body's ``PUSHED``: how fast it may go within the step, counting the bodies it
+    may touch. A body struck by another can leave at up to ``(1 + e)`` times their
+    closing speed (``e`` the larger restitution, or their product if that is larger:
+    no mixing rule gives more), and an overlap pushes it out at up to the push speed;
+    a body near nothing keeps its own ``REACH``.
+    A plane's contacts with a body are made from this: a light body struck towards a
+    plane by a fast one must find the plane there (planes are infinite, so a far
+    speculative point costs one point and stops nothing it should not)."""
+    push = ctx[ctx_.PUSH_SPEED]
+    for i in range(shapes.shape[0]):
+        terms[i, PUSHED] = terms[i, REACH] if terms[i, MOVABLE] == 1.0 else 0.0
+    for k in range(min(count, pairs.shape[0])):
+        a, b = pairs[k, 0], pairs[k, 1]
+        ea, eb = body[w, a, RESTITUTION], body[w, b, RESTITUTION]
+        closing = (1.0 + max(ea, eb, ea * eb)) * (terms[a, REACH] + terms[b, REACH])
+        for i in (a, b):
+            if terms[i, MOVABLE] == 1.0:
+                terms[i, PUSHED] = max(terms[i, PUSHED], terms[i, REACH] + push + closing)
+
+
+@kernel
 def find_pairs(body, body_i, shapes, w, ctx, terms, pairs, scratch, buckets) -> int:
     """The candidate pairs of world ``w`` in canonical order; returns their number (more
     than ``pairs`` holds means the step needs more room)."""
     count = sweep(body_i, shapes, w, terms, pairs)
+    pushed_reach(body, shapes, w, ctx, terms, pairs, count)
     count = plane_pairs(body_i, shapes, w, terms, pairs, count)
     if count <= pairs.shape[0]:
         canonical_order(pairs, count, scratch, buckets)

@@ -201,7 +201,7 @@ def along_line_of_centres(body, w, terms, points, k, a, b) -> None:
 
 
 @kernel
-def follow_bodies(body, w, terms, points, ids, n) -> None:
+def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     """After the positions moved: both anchors of every point at one world point again.
 
     Equal and opposite impulses at one world point exert no net torque, so contacts keep
@@ -219,8 +219,22 @@ def follow_bodies(body, w, terms, points, ids, n) -> None:
     a torque ``m x impulse`` from the speculative push that brings them together, ``m``
     at most the distance they slide past each other in the step (the one place where
     contacts do not keep angular momentum exactly, an error of first order in ``dt``,
-    bounded in ``tests/scene_laws.py``)."""
+    bounded in ``tests/scene_laws.py``).
+
+    Two kinds of point stay as the narrowphase made them. Against a fixed or kinematic
+    body (or one asleep) there is no angular momentum to keep. And a point that may
+    bounce (restitution > 0, closing faster than the threshold) keeps one Jacobian for
+    the whole step: restitution sends it apart at ``e`` times the speed it came in with,
+    along the Jacobian that speed was measured on, and pushes spread over several
+    Jacobians (the solver's passes as the anchors move, then the bounce) would not keep
+    the energy of an elastic impact (a spinning box striking a pebble gained 1 %). Such
+    an impact exerts the torque ``m x impulse`` of the discs above, bounded the same way."""
+    threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
     for k in range(n):
+        if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
+            continue  # against an immovable body: it takes any torque, nothing to keep
+        if points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold:
+            continue  # may bounce: see the docstring
         keep = points[k, KEEP]
         a, b = ids[k, 0], ids[k, 1]
         if keep == 2.0:

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from . import envelope
 from . import settings as ctx_
 from ._jit import kernel
 from .state import (
@@ -135,19 +136,21 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
         # size, so small bodies (pool balls) are not given contacts whole radii away. Planes
         # have no size and take the world's.
         terms[i, HALF_SPEC] = 0.5 * (spec if kind == PLANE else min(spec, 0.25 * bound))
-        terms[i, X0], terms[i, Y0], terms[i, ANGLE0] = (
-            body[w, i, X],
-            body[w, i, Y],
-            body[w, i, ANGLE],
-        )
+        terms[i, X0], terms[i, Y0] = body[w, i, X], body[w, i, Y]
+        terms[i, ANGLE0] = body[w, i, ANGLE]
 
 
 @kernel
 def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
-    """Add to each body's ``REACH`` what its springs can give it within the step: the
-    force at the step start over the step, ``|F| dt / m`` and ``|r x F| dt R / I``. A
-    stretched spring can fling a resting body across a plane in one step; the contacts
-    are made from this speed, so the plane is there to stop it."""
+    """Add to each body's ``REACH`` what its springs can give it within the step.
+
+    The impulse a spring can deliver over the step is at most its force at the step
+    start over the step, ``|F| dt``, plus what its stretch turns into as it swings, the
+    momentum ``|stretch| sqrt(k / w)`` (``w`` the inverse effective mass of the anchor
+    along the spring: the amplitude of the velocity is ``sqrt(k w) |stretch|``). An
+    impulse ``J`` at an anchor ``r`` speeds every point of the body up by at most
+    ``J (1/m + |r x u| R / I)``. A stretched spring can fling a resting body across a
+    plane in one step; the contacts are made from this reach, so the plane is there."""
     dt = ctx[ctx_.DT]
     for k in range(ends.shape[0]):
         if not spring_acts(body_i, spring, ends, w, k):
@@ -156,14 +159,16 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
         rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
         rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
-        stretch = length - spring[w, k, REST_LENGTH]
-        force = abs(spring[w, k, STIFFNESS] * stretch) + abs(
-            spring[w, k, DAMPING] * (rvx * ux + rvy * uy)
-        )
+        stretch = abs(length - spring[w, k, REST_LENGTH])
+        stiffness = spring[w, k, STIFFNESS]
+        force = stiffness * stretch + abs(spring[w, k, DAMPING] * (rvx * ux + rvy * uy))
         for i, rx, ry in ((a, rax, ray), (b, rbx, rby)):
-            if terms[i, MOVING] == 1.0:
-                turn = abs(rx * uy - ry * ux) * terms[i, STEP_INV_MOMENT] * body[w, i, BOUND]
-                terms[i, REACH] += force * dt * (terms[i, STEP_INV_MASS] + turn)
+            if terms[i, MOVABLE] == 1.0:
+                arm = abs(rx * uy - ry * ux)
+                inv_mass, inv_moment = terms[i, STEP_INV_MASS], terms[i, STEP_INV_MOMENT]
+                inverse = inv_mass + arm * arm * inv_moment
+                impulse = force * dt + stretch * math.sqrt(stiffness / inverse)
+                terms[i, REACH] += impulse * (inv_mass + arm * inv_moment * body[w, i, BOUND])
 
 
 @kernel
@@ -285,14 +290,17 @@ def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
 
 @kernel
 def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
-    """The spring least stable at substep ``h`` (-1 if all are stable); writes its
-    measure ``h^2 k w + 2 h c w`` to ``out[0]`` (unstable from 4)."""
-    worst, measure = -1, 0.0
+    """The first spring the step cannot take (-1 if none): the least stable one, by the
+    measure ``h^2 k w + 2 h c w`` (unstable from 4), written to ``out[0]``; or, if every
+    spring is stable, one whose pull accelerates its anchors apart faster than the
+    envelope allows, ``(k |L - L0| + c |v_along|) w > envelope.ACCELERATION`` (as a force
+    on a body may not), flagged by ``out[1] = 1``."""
+    worst, measure, fast = -1, 0.0, -1
     for k in range(ends.shape[0]):
         if not spring_acts(body_i, spring, ends, w, k):
             continue
         a, b = ends[k, 0], ends[k, 1]
-        rax, ray, rbx, rby, ux, uy, _ = spring_geometry(body, spring, ends, w, k)
+        rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
         ca, cb = rax * uy - ray * ux, rbx * uy - rby * ux
         inverse = (
             terms[a, STEP_INV_MASS]
@@ -304,5 +312,13 @@ def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
         value = h * h * stiffness * inverse + 2.0 * h * damping * inverse
         if value >= 4.0 and value > measure:
             worst, measure = k, value
-    out[0] = measure
+        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
+        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+        along = abs(rvx * ux + rvy * uy)
+        pull = (stiffness * abs(length - spring[w, k, REST_LENGTH]) + damping * along) * inverse
+        if fast < 0 and pull > envelope.ACCELERATION:
+            fast = k
+    out[0], out[1] = measure, 0.0
+    if worst < 0 and fast >= 0:
+        worst, out[1] = fast, 1.0
     return worst

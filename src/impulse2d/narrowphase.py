@@ -30,7 +30,20 @@ import math
 from . import settings as ctx_
 from ._jit import kernel
 from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
-from .workspace import AGAINST_PLANE, HALF_SPEC, KEEP, NX, NY, RAX, RAY, RBX, RBY, REACH, SEP0
+from .workspace import (
+    AGAINST_PLANE,
+    HALF_SPEC,
+    KEEP,
+    NX,
+    NY,
+    PUSHED,
+    RAX,
+    RAY,
+    RBX,
+    RBY,
+    REACH,
+    SEP0,
+)
 
 CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX, CIRCLE_PLANE, BOX_PLANE = range(5)
 FEATURES = 32  # feature ids are < 32 (box-box: 8 reference faces x 4 incident vertices)
@@ -344,7 +357,10 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
     count = 0
     for k in range(n_pairs):
         a, b = pairs[k, 0], pairs[k, 1]
-        closing = (terms[a, REACH] + terms[b, REACH]) * dt
+        if shapes[b, 0] == PLANE:  # see broadphase.pushed_reach
+            closing = terms[a, PUSHED] * dt
+        else:
+            closing = (terms[a, REACH] + terms[b, REACH]) * dt
         margin = terms[a, HALF_SPEC] + terms[b, HALF_SPEC] + closing
         manifold = collide(
             pair_kind(shapes[a, 0], shapes[b, 0]),

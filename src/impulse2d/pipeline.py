@@ -63,7 +63,7 @@ from .workspace import MOVING, views
 PLAN_WORLD, PLAN_STEPS, PLAN_STATUS, NEED_PAIRS, NEED_POINTS, BAD_SPRING = range(6)
 PLAN_COLUMNS = 6
 # Statuses.
-RUNNING, NEEDS_ROOM, UNSTABLE_SPRING = 0, 1, 2
+RUNNING, NEEDS_ROOM, UNSTABLE_SPRING, FAST_SPRING = 0, 1, 2, 3
 
 
 @kernel
@@ -131,7 +131,7 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
         warm_start(body, w, points, ids, n)
         solve(body, w, ctx, terms, points, ids, n, True)
         integrate_positions(body, w, terms, h)
-        follow_bodies(body, w, terms, points, ids, n)
+        follow_bodies(body, w, ctx, terms, points, ids, n)
         solve(body, w, ctx, terms, points, ids, n, False, substep == count - 1)
     restitution(body, w, ctx, terms, points, ids, n)
 
@@ -185,11 +185,11 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         plan_row[NEED_POINTS] = needed
         return NEEDS_ROOM
     if ends.shape[0]:
-        measure = np.zeros(1)
+        measure = np.zeros(2)
         worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
         if worst >= 0:
             plan_row[BAD_SPRING] = worst
-            return UNSTABLE_SPRING
+            return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING
     carry_impulses(contact, contact_i, world_i, w, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)

@@ -15,7 +15,8 @@ Body terms ``terms`` (N, TERMS) float64, for the current step:
 * ``ROLL_H``: ``h`` times the rolling resistance;
 * ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s),
   what sleeping compares; ``REACH``: that plus what gravity, forces and springs can add
-  within the step, what the contacts are made from;
+  within the step, what the contacts are made from; ``PUSHED``: that plus what the bodies
+  it may touch this step can give it, what its contacts with planes are made from;
 * ``HALF_SPEC``: half the body's speculative distance;
 * ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step;
 * ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box, the shape's axis-aligned
@@ -47,7 +48,8 @@ SPEED, HALF_SPEC = 8, 9
 X0, Y0, ANGLE0 = 10, 11, 12
 LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
 REACH = 17  # SPEED plus what gravity, forces and springs can add within the step (m/s)
-TERMS = 18
+PUSHED = 18  # REACH plus what the bodies it may touch can add (m/s): its planes' margin
+TERMS = 19
 
 # The columns a solver sweep reads come first, so a point's hot data spans three cache
 # lines, not four.

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks, edit, pipeline, readouts, structure
+from . import _checks, edit, envelope, pipeline, readouts, structure
 from .readouts import ContactPoints, Energy
 from .runner import Runner, available_threads
 from .settings import Settings
@@ -319,7 +319,10 @@ class World:
         return taken
 
     def _check_springs(self, plan: np.ndarray, context: np.ndarray) -> None:
-        bad = np.flatnonzero(plan[:, pipeline.PLAN_STATUS] == pipeline.UNSTABLE_SPRING)
+        status = plan[:, pipeline.PLAN_STATUS]
+        bad = np.flatnonzero(
+            (status == pipeline.UNSTABLE_SPRING) | (status == pipeline.FAST_SPRING)
+        )
         if bad.size == 0:
             return
         world, slot = int(plan[bad[0], pipeline.PLAN_WORLD]), int(plan[bad[0], pipeline.BAD_SPRING])
@@ -327,6 +330,14 @@ class World:
         stiffness = np.atleast_1d(spring.stiffness)[world]
         damping = np.atleast_1d(spring.damping)[world]
         where = f" in world {world}" if self.batch_size > 1 else ""
+        if status[bad[0]] == pipeline.FAST_SPRING:
+            raise ValueError(
+                f"spring stiffness {stiffness} N/m with damping {damping} N s/m pulls its "
+                f"anchors apart at more than {envelope.ACCELERATION:g} m/s^2{where} (the "
+                "supported range, see impulse2d.envelope: (k |L - L0| + c |v|) w, w the "
+                "inverse effective mass along the spring); lower stiffness or stretch, or "
+                "use heavier bodies. That world did not step."
+            )
         raise ValueError(
             f"spring stiffness {stiffness} N/m with damping {damping} N s/m is unstable at "
             f"substep h = {context[1]:.3g} s{where} (needs h^2 k w + 2 h c w < 4, w the inverse "
