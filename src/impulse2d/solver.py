@@ -265,12 +265,45 @@ def solve_pair_normals(body, w, ctx, terms, points, ids, k, use_bias) -> bool:
         found = a11 * d1 + a12 * d2 - r1 >= 0.0 and a21 * d1 + a22 * d2 - r2 >= 0.0
     if not found:
         return False
-    for p, change in ((k, d1), (j, d2)):
-        points[p, NORMAL_J] += change
-        points[p, STEP_J] += change
-        points[p, MAX_J] = max(points[p, MAX_J], change)
-        push(body, w, a, b, points, p, change, 0.0)
+    points[k, NORMAL_J] += d1
+    points[k, STEP_J] += d1
+    points[k, MAX_J] = max(points[k, MAX_J], d1)
+    push(body, w, a, b, points, k, d1, 0.0)
+    points[j, NORMAL_J] += d2
+    points[j, STEP_J] += d2
+    points[j, MAX_J] = max(points[j, MAX_J], d2)
+    push(body, w, a, b, points, j, d2, 0.0)
     return True
+
+
+@inline
+def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -> bool:
+    """One sweep over the pairs against a plane (``boundary`` 1.0) or the others (0.0);
+    returns whether a pair of them has more than two points (coupled by its body's
+    turning, which one sweep does not settle). A pair of two points that strikes (closing
+    faster than the restitution threshold) has its normals solved at once; resting
+    pairs, settled over many steps by the warm start, one after the other, which costs
+    a third as much (Box2D v3 has no block solver at all)."""
+    coupled = False
+    threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
+    start = 0
+    while start < n:  # a pair's points are neighbours
+        end = start + 1
+        while end < n and ids[end, 0] == ids[start, 0] and ids[end, 1] == ids[start, 1]:
+            end += 1
+        if points[start, AGAINST_PLANE] == boundary:
+            coupled |= end - start > 2
+            pair = end - start == 2 and (
+                points[start, APPROACH_SPEED] < -threshold
+                or points[start + 1, APPROACH_SPEED] < -threshold
+            )
+            if not (pair and solve_pair_normals(body, w, ctx, terms, points, ids, start, use_bias)):
+                for k in range(start, end):
+                    solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last)
+            for k in range(start, end):
+                solve_friction(body, w, points, ids, k)
+        start = end
+    return coupled
 
 
 @kernel
@@ -286,10 +319,11 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     between would meet the sliding that turning makes at the second point, push against
     it and leave the box moving sideways with more energy than it had. Restitution
     needs, for points that share their pair, the normal velocity at which a point first
-    pushes; it is read before the sweep. A pair with two points has both normals solved
-    at once (``solve_pair_normals``).
+    pushes; it is read before the sweep. A pair that strikes at two points has both
+    normals solved at once (``solve_pair_normals``).
 
-    Points against a plane are solved after all others, in ``_PLANE_SWEEPS`` sweeps: in
+    Points against a plane are solved after all others, in ``_PLANE_SWEEPS`` sweeps when
+    a pair has more than two (one otherwise; a pair of two is solved exactly): in
     Gauss-Seidel the last constraint solved holds exactly, and a plane, the world's
     boundary, must win over a body squeezing another against it (a kinematic pusher, or a
     heavy ball landing on a light plank, whose push it then undoes). A plank has up to
@@ -300,23 +334,10 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     for k in range(n):
         if watched(points, k) and points[k, IMPACT_V] == 0.0:
             points[k, BEFORE_V] = normal_velocity(body, w, ids[k, 0], ids[k, 1], points, k)
-    for sweep in range(1 + _PLANE_SWEEPS):
-        boundary = min(sweep, 1)
-        start = 0
-        while start < n:  # a pair's points are neighbours
-            end = start + 1
-            while end < n and ids[end, 0] == ids[start, 0] and ids[end, 1] == ids[start, 1]:
-                end += 1
-            if points[start, AGAINST_PLANE] == boundary:
-                pair = end - start == 2
-                if not (
-                    pair and solve_pair_normals(body, w, ctx, terms, points, ids, start, use_bias)
-                ):
-                    for k in range(start, end):
-                        solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last)
-                for k in range(start, end):
-                    solve_friction(body, w, points, ids, k)
-            start = end
+    coupled = solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 0.0)
+    coupled = solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 1.0)
+    for _ in range(_PLANE_SWEEPS - 1 if coupled else 0):
+        solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 1.0)
     for k in range(n):
         if watched(points, k) and points[k, IMPACT_V] == 0.0 and points[k, MAX_J] > 0.0:
             points[k, IMPACT_V] = points[k, BEFORE_V]
