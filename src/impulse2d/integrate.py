@@ -157,11 +157,10 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
             continue
         a, b = ends[k, 0], ends[k, 1]
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
-        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
-        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+        along = spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy)
         stretch = abs(length - spring[w, k, REST_LENGTH])
         stiffness = spring[w, k, STIFFNESS]
-        force = stiffness * stretch + abs(spring[w, k, DAMPING] * (rvx * ux + rvy * uy))
+        force = stiffness * stretch + abs(spring[w, k, DAMPING] * along)
         for i, rx, ry in ((a, rax, ray), (b, rbx, rby)):
             if terms[i, MOVABLE] == 1.0:
                 arm = abs(rx * uy - ry * ux)
@@ -252,6 +251,15 @@ def spring_geometry(body, spring, ends, w, k):
 
 
 @kernel
+def spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy) -> float:
+    """How fast a spring's anchors move apart along it (``u``): ``(vB + wB x rB) - (vA +
+    wA x rA)``, projected on ``u``."""
+    rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
+    rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+    return rvx * ux + rvy * uy
+
+
+@kernel
 def spring_acts(body_i, spring, ends, w, k) -> bool:
     """Spring slot ``k`` is used, on, and joins two enabled bodies. (Written with ``&``,
     without branches: a helper that branches costs numba reference counting per call.)"""
@@ -272,11 +280,9 @@ def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
             continue
         a, b = ends[k, 0], ends[k, 1]
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
-        # Relative velocity of the anchors: (vB + wB x rB) - (vA + wA x rA).
-        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
-        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+        along = spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy)
         stretch = length - spring[w, k, REST_LENGTH]
-        tension = spring[w, k, STIFFNESS] * stretch + spring[w, k, DAMPING] * (rvx * ux + rvy * uy)
+        tension = spring[w, k, STIFFNESS] * stretch + spring[w, k, DAMPING] * along
         fx, fy = tension * ux, tension * uy  # on A; B gets the opposite
         ima, iia = terms[a, STEP_INV_MASS], terms[a, STEP_INV_MOMENT]
         imb, iib = terms[b, STEP_INV_MASS], terms[b, STEP_INV_MOMENT]
@@ -312,9 +318,7 @@ def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
         value = h * h * stiffness * inverse + 2.0 * h * damping * inverse
         if value >= 4.0 and value > measure:
             worst, measure = k, value
-        rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
-        rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
-        along = abs(rvx * ux + rvy * uy)
+        along = abs(spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy))
         pull = (stiffness * abs(length - spring[w, k, REST_LENGTH]) + damping * along) * inverse
         if fast < 0 and pull > envelope.ACCELERATION:
             fast = k
