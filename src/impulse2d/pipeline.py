@@ -5,8 +5,9 @@
     body terms -> broadphase -> narrowphase -> wake touched islands (and again, until
     nothing more wakes) -> contact preparation with warm start -> substeps [integrate
     velocities (gravity, forces, drag, rolling, springs) -> warm start -> solve ->
-    integrate positions -> relax] -> restitution -> store contacts, first contacts and
-    damage -> clear forces -> sleep -> broken bodies -> sensors -> clock
+    integrate positions -> relax] -> restitution -> bodies deep in planes moved out ->
+    store contacts, first contacts and damage -> clear forces -> sleep -> broken bodies
+    -> sensors -> clock
 
 ``advance_world`` repeats it for one world, up to a number of steps or until the world
 is at rest (a shot runs in one compiled call); ``advance`` and ``advance_parallel`` do
@@ -39,6 +40,7 @@ from .integrate import (
     step_terms,
 )
 from .narrowphase import find_points
+from .projection import project_out_of_planes
 from .sleep import update_sleep, wake_touched
 from .solver import restitution, solve, warm_start
 from .state import (
@@ -193,6 +195,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     carry_impulses(contact, contact_i, world_i, w, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
+    project_out_of_planes(body, shapes, w, points, ids, n)
     finish(state, shapes, ends, sensors, w, ctx, scratch, n)
     return RUNNING
 
