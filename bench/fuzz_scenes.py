@@ -16,7 +16,7 @@ in four families, each checked for the laws that apply to it (``tests/scene_laws
   ``scene_laws.impact_torque_bound``: none without bounces or two discs);
 * ``free boxes``: the same with boxes only, and springs.
 
-Run: ``python bench/fuzz_scenes.py --scenes 10000`` (about an hour on one core; Ctrl-C
+Run: ``python bench/fuzz_scenes.py --scenes 10000`` (about 3 minutes here; Ctrl-C
 prints what it has so far). Prints a progress line every few seconds (also into a log),
 then a table of scenes and failures by family and law, and writes the first failing
 scenes of each law as stand-alone snippets to ``--out`` (default
