@@ -66,7 +66,6 @@ from .workspace import (
     IIB,
     IMA,
     IMB,
-    IMPACT_V,
     IMPULSE_SCALE,
     KEEP,
     MASS_SCALE,
@@ -292,7 +291,6 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         points[k, SHARED] = 1.0 if same_before or same_after else 0.0
         points[k, STEP_J] = 0.0
         points[k, MAX_J] = 0.0
-        points[k, IMPACT_V] = 0.0
 
 
 @inline

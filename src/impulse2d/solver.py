@@ -11,7 +11,7 @@ One step of ``dt`` is split into ``substeps`` of ``h = dt / substeps``; each sub
    which removes the velocity the bias added, so pushing bodies apart does not make them
    bounce.
 
-After the substeps, ``restitution`` applies the bounce once.
+After the substeps, ``restitution`` applies the bounce (all bouncing points at once).
 
 Speculative contacts (``separation > 0``) are hard: the closing speed is limited to
 ``separation / h``, so a body arrives at the surface and no further (in the last relax
@@ -35,7 +35,6 @@ from .workspace import (
     AGAINST_PLANE,
     ANGLE0,
     APPROACH_SPEED,
-    BEFORE_V,
     BIAS_RATE,
     BOUNCE,
     HALF_SPEC,
@@ -43,7 +42,6 @@ from .workspace import (
     IIB,
     IMA,
     IMB,
-    IMPACT_V,
     IMPULSE_SCALE,
     MASS_SCALE,
     MAX_J,
@@ -68,7 +66,8 @@ from .workspace import (
     Y0,
 )
 
-_SHARED_SWEEPS = 8  # restitution sweeps for pairs that strike at two points (see restitution)
+_BOUNCE_SWEEPS = 64  # at most this many restitution sweeps when several points bounce
+_BOUNCE_TOLERANCE = 1e-9  # ... until no point's speed changes by more than this (relative)
 _PLANE_SWEEPS = 4  # sweeps of the points against planes in each pass (see solve)
 
 
@@ -135,16 +134,6 @@ def warm_start(body, w, points, ids, n) -> None:
         if normal != 0.0 or tangent != 0.0:
             points[k, STEP_J] += normal
             push(body, w, ids[k, 0], ids[k, 1], points, k, normal, tangent)
-
-
-@inline
-def watched(points, k) -> bool:
-    """Points whose velocity at first touch restitution will need (see ``restitution``)."""
-    return (
-        (points[k, SHARED] == 1.0)
-        & (points[k, APPROACH_SPEED] < 0.0)
-        & (points[k, MIXED_RESTITUTION] > 0.0)
-    )
 
 
 @inline
@@ -317,10 +306,8 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     in Box2D): a box landing flat on a face gets uneven normal impulses from its two
     points solved one after the other, the first one turning it, and friction solved in
     between would meet the sliding that turning makes at the second point, push against
-    it and leave the box moving sideways with more energy than it had. Restitution
-    needs, for points that share their pair, the normal velocity at which a point first
-    pushes; it is read before the sweep. A pair that strikes at two points has both
-    normals solved at once (``solve_pair_normals``).
+    it and leave the box moving sideways with more energy than it had. A pair that
+    strikes at two points has both normals solved at once (``solve_pair_normals``).
 
     Points against a plane are solved after all others, in ``_PLANE_SWEEPS`` sweeps when
     a pair has more than two (one otherwise; a pair of two is solved exactly): in
@@ -331,29 +318,48 @@ def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
     tipping into the ground, four converge (a 1 kg ball at 9 m/s on a 0.1 kg plank at
     32 Hz pushed the plank's centre 8 mm behind the plane with one). Planes have few
     points, so the sweeps cost little."""
-    for k in range(n):
-        if watched(points, k) and points[k, IMPACT_V] == 0.0:
-            points[k, BEFORE_V] = normal_velocity(body, w, ids[k, 0], ids[k, 1], points, k)
     coupled = solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 0.0)
     coupled = solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 1.0)
     for _ in range(_PLANE_SWEEPS - 1 if coupled else 0):
         solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, 1.0)
-    for k in range(n):
-        if watched(points, k) and points[k, IMPACT_V] == 0.0 and points[k, MAX_J] > 0.0:
-            points[k, IMPACT_V] = points[k, BEFORE_V]
+
+
+@inline
+def bounce_target(points, k, h) -> float:
+    """The normal velocity at which point ``k`` must leave: ``e`` times its impact speed.
+
+    The impact speed is the approach speed at the step start, ``u``, carried over the
+    remaining gap ``s`` under the constant closing acceleration ``c = -a_n`` (gravity and
+    applied forces): ``u_impact = sqrt(u^2 + 2 c s)``. Without it a ball dropped 2 m at
+    60 Hz loses 2.6 % of its energy per bounce on average. And the semi-implicit Euler
+    integrator (``v += h a; x += h v``) stores, under a constant acceleration, the
+    velocity of half a substep *earlier*; the velocity in step with the position is
+    ``v + h a / 2``. So ``u = -(v_n + h a_n / 2)`` and the stored outgoing velocity is
+    ``e u_impact - h a_n / 2``. Without it a bounce loses ``m g h v`` (1 % per bounce at
+    60 Hz with 4 substeps). The returned target is minus that (``v_n + target = 0``)."""
+    e, accel = points[k, MIXED_RESTITUTION], points[k, NORMAL_ACCEL]
+    half_kick = 0.5 * h * accel
+    approach = -(points[k, APPROACH_SPEED] + half_kick)
+    gap = max(points[k, SEP0], 0.0)
+    impact = math.sqrt(max(approach * approach - 2.0 * accel * gap, 0.0))
+    return -(e * impact - half_kick)
 
 
 @kernel
-def bounce_targets(body, w, ctx, terms, points, ids, n) -> bool:
-    """Which points bounce and the normal velocity each must reach; returns whether any
-    pair shares its bounce between points (see ``restitution``).
+def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
+    """Which points bounce and the normal velocity each must reach; returns how many.
 
     A point bounces if it closed faster than the threshold at the step start and pushed.
     With ``e = 0`` it must also touch at the end of the step (within a tenth of the pair's
     speculative distance): the points of a pair can push before its bodies meet, to limit
     how fast they may close (see ``solve``), and bringing those to rest along the normal
     would stop the bodies in mid-air. (With ``e > 0`` that early bounce keeps the speed
-    right, at the price of a position up to the gap off.)"""
+    right, at the price of a position up to the gap off.) A lone bouncing point of its
+    pair with ``e = 0`` is left as the solver stopped it; several points of a pair bounce
+    together, ``e = 0`` included: the sweeps bring them all to rest along the normal,
+    which the solver's own passes leave a few per cent short of for an impact that
+    happens within one step (two boxes meeting face to face would part again instead of
+    moving on together)."""
     threshold, h = ctx[ctx_.RESTITUTION_THRESHOLD], ctx[ctx_.H]
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
@@ -362,7 +368,7 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> bool:
             reach = 0.1 * (terms[a, HALF_SPEC] + terms[b, HALF_SPEC])
             eligible = current_separation(body, w, a, b, points, k, terms) <= reach
         points[k, BOUNCE] = 1.0 if eligible else 0.0
-    shared_any = False
+    count = 0
     start = 0
     while start < n:  # a pair's points are neighbours
         end = start + 1
@@ -374,21 +380,30 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> bool:
         for k in range(start, end):
             if points[k, BOUNCE] == 0.0:
                 continue
-            e, accel = points[k, MIXED_RESTITUTION], points[k, NORMAL_ACCEL]
-            if bouncing == 1 and e == 0.0:  # the solver already stopped it
-                points[k, BOUNCE] = 0.0
-            elif bouncing > 1:
-                points[k, BOUNCE] = 2.0
-                points[k, TARGET] = e * min(points[k, IMPACT_V], 0.0)
-                shared_any = True
+            if bouncing == 1 and points[k, MIXED_RESTITUTION] == 0.0:
+                points[k, BOUNCE] = 0.0  # the solver already stopped it
             else:
-                half_kick = 0.5 * h * accel
-                approach = -(points[k, APPROACH_SPEED] + half_kick)
-                gap = max(points[k, SEP0], 0.0)
-                impact = math.sqrt(max(approach * approach - 2.0 * accel * gap, 0.0))
-                points[k, TARGET] = -(e * impact - half_kick)
+                points[k, TARGET] = bounce_target(points, k, h)
+                count += 1
         start = end
-    return shared_any
+    return count
+
+
+@inline
+def bounce(body, w, points, ids, k) -> float:
+    """Point ``k`` sent to its target velocity; returns the impulse applied.
+
+    What the bounce may take back is what the point pushed over the step: a contact never
+    pulls, over the step (not only over the last substep)."""
+    a, b = ids[k, 0], ids[k, 1]
+    vn = normal_velocity(body, w, a, b, points, k)
+    pushed = points[k, STEP_J]
+    total = max(pushed - points[k, NORMAL_MASS] * (vn + points[k, TARGET]), 0.0)
+    change = total - pushed
+    points[k, STEP_J] = total
+    points[k, NORMAL_J] = max(points[k, NORMAL_J] + change, 0.0)
+    push(body, w, a, b, points, k, change, 0.0)
+    return change
 
 
 @kernel
@@ -397,45 +412,39 @@ def restitution(body, w, ctx, terms, points, ids, n) -> None:
 
     Only points that approached faster than ``restitution_threshold`` at the start of the
     step, and pushed during it, take part, so resting contacts stay at rest and a ball at
-    rest in a rack that is hit does not "bounce" off its neighbours.
+    rest in a rack that is hit does not "bounce" off its neighbours. Each gets Newton's
+    law, ``v_n' = -e u``, ``u`` its approach speed at the step start (as in Box2D; for
+    gravity's corrections see ``bounce_target``).
 
-    A pair that strikes at one point gets Newton's law, ``v_n' = -e v_n``, with two
-    corrections to Box2D's form that make bounces under gravity keep energy:
+    Why the step start, for every point: over a step the contacts change the velocities
+    ``V`` by impulses ``lambda_i`` along their Jacobians ``J_i`` (those of bouncing points
+    are kept for the whole step, ``contacts.follow_bodies``), so the kinetic energy
+    changes by ``sum_i lambda_i (u_i + v_i') / 2``, ``u_i = J_i V_start`` and ``v_i' =
+    J_i V_end`` (the work of an impulse is the impulse times the mean of the velocities
+    before and after). Where a point pushed, ``v_i' = -e_i u_i`` makes its term
+    ``lambda_i (1 - e_i) u_i / 2 <= 0``: the bounce never adds energy. That holds only
+    for approach speeds measured on one state of the bodies: a box whose corner strikes
+    first and sets it turning brings its other corner in faster than it started, and
+    bouncing that corner at ``e`` times its speed when it first pushed (the velocity
+    after the first corner had been stopped, not bounced) gave a box 8 % more energy.
 
-    * The impact speed is the approach speed at the step start, ``u``, carried over the
-      remaining gap ``s`` under the constant closing acceleration ``c = -a_n`` (gravity
-      and applied forces): ``u_impact = sqrt(u^2 + 2 c s)``. Without it a ball dropped
-      2 m at 60 Hz loses 2.6 % of its energy per bounce on average.
-    * The semi-implicit Euler integrator (``v += h a; x += h v``) stores, under a constant
-      acceleration, the velocity of half a substep *earlier*; the velocity in step with
-      the position is ``v + h a / 2``. So ``u = -(v_n + h a_n / 2)`` and the stored
-      outgoing velocity is ``e u_impact - h a_n / 2``. Without it a bounce loses
-      ``m g h v`` (1 % per bounce at 60 Hz with 4 substeps).
-
-    A pair that strikes at two points (a box landing on a face, a spinning box whose
-    corners arrive one after the other) is different: its points' speeds at the start of
-    the step are not their speeds at impact, and Newton's law on them can give the pair a
-    quarter more kinetic energy than it had. Its points use the normal velocity they had
-    when they first pushed, and a few Gauss-Seidel sweeps share the bounce between them
-    as a simultaneous impact would (solved one after the other, the first point would take
-    it all and set a flat-landing box spinning). That includes ``e = 0``: the sweeps bring
-    both points to rest along the normal, which the solver's own passes leave a few per
-    cent short of for an impact that happens within one step (two boxes meeting face to
-    face would part again instead of moving on together).
+    And it holds only when every bouncing point reaches its target: sent apart one
+    after the other, a later point's impulse changes the speed of an earlier one that
+    shares a body with it (a box hit by a ball while striking the ground, a box whose
+    corners arrive one after the other), which then leaves faster than ``e u`` (the box
+    between ball and plane gained 1.5 %), or, solved once each, the first of a box's
+    points would take a flat landing all alone and set it spinning. So when several
+    points bounce, Gauss-Seidel sweeps over them until no point's speed changes by more
+    than ``_BOUNCE_TOLERANCE`` of its approach: the simultaneous impact, in which every
+    point that pushes leaves at its target and the others at least as fast.
     """
-    shared_any = bounce_targets(body, w, ctx, terms, points, ids, n)
-    for sweep in range(_SHARED_SWEEPS if shared_any else 1):
+    count = bounce_targets(body, w, ctx, terms, points, ids, n)
+    for _ in range(_BOUNCE_SWEEPS if count > 1 else 1):
+        settled = True
         for k in range(n):
-            bounce = points[k, BOUNCE]
-            if bounce == 0.0 or (sweep > 0 and bounce != 2.0):
-                continue
-            a, b = ids[k, 0], ids[k, 1]
-            vn = normal_velocity(body, w, a, b, points, k)
-            # What the bounce may take back is what the point pushed over the step: a
-            # contact never pulls, over the step (not only over the last substep).
-            pushed = points[k, STEP_J]
-            total = max(pushed - points[k, NORMAL_MASS] * (vn + points[k, TARGET]), 0.0)
-            change = total - pushed
-            points[k, STEP_J] = total
-            points[k, NORMAL_J] = max(points[k, NORMAL_J] + change, 0.0)
-            push(body, w, a, b, points, k, change, 0.0)
+            if points[k, BOUNCE] == 1.0:
+                change = bounce(body, w, points, ids, k)
+                scale = _BOUNCE_TOLERANCE * points[k, NORMAL_MASS] * -points[k, APPROACH_SPEED]
+                settled &= abs(change) <= scale
+        if settled:
+            return

@@ -33,7 +33,7 @@ feature), one row per contact point of the step, sorted by (A, B, feature):
   softness, the approach speed and acceleration along the normal, the Jacobian's cross
   terms ``rA x n`` ... and the step inverse masses;
 * from the solver: accumulated impulses, the impulse over the step, the largest
-  increment, the normal velocity at first touch and the restitution target.
+  increment and the restitution target.
 """
 
 from __future__ import annotations
@@ -63,13 +63,12 @@ STEP_J, MAX_J = 19, 20  # impulse over the step; largest solver increment (did i
 RAX, RAY, RBX, RBY = 21, 22, 23, 24  # anchors: offsets of the point from A's and B's centres
 MIXED_RESTITUTION = 25
 APPROACH_SPEED, NORMAL_ACCEL = 26, 27  # normal velocity and acceleration at the step start
-IMPACT_V, BEFORE_V = 28, 29  # normal velocity when the point first pushed; before a sweep
-SHARED = 30  # 1.0 if the point's pair has another point
-TARGET = 31  # restitution: the normal velocity to reach
-BOUNCE = 32  # restitution: 0 not bouncing, 1 alone in its pair, 2 sharing the pair's bounce
-KEEP = 33  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
-AGAINST_PLANE = 34  # 1.0 if B is a plane (solved last, see solver.solve)
-POINT_F = 35
+SHARED = 28  # 1.0 if the point's pair has another point
+TARGET = 29  # restitution: minus the normal velocity to reach
+BOUNCE = 30  # restitution: 1.0 if the point bounces
+KEEP = 31  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
+AGAINST_PLANE = 32  # 1.0 if B is a plane (solved last, see solver.solve)
+POINT_F = 33
 MERGED_F = 9  # = state.CONTACT_F: the contact cache being written
 
 
