@@ -165,7 +165,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     if ends.shape[0]:
         measure = np.zeros(1)
         spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
-    carry_impulses(contact, contact_i, world_i, w, points, ids, n)
+    carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     if stages == 5:
         return n

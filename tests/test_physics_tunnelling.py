@@ -213,3 +213,37 @@ def test_overlapping_start_spreads_out(ground):
     assert np.ptp(positions[:, 0]) > 5.0
     if ground:
         assert positions[:, 1].min() > radius - 0.02  # nobody pushed into the ground
+
+
+def test_millimetre_bodies_thousands_of_sizes_per_step_keep_their_energy():
+    """Found by the long fuzz run (``bench/fuzz_scenes.py``, planes family): millimetre
+    boxes and a disc at 20-85 m/s between two walls, dt = 0.0645 s with one substep, so
+    they move a thousand of their sizes per step and their contacts are made metres
+    apart. The state must stay finite and the energy (kinetic + potential, restitution
+    <= 0.7) never grow. (It reached 1e189 J and NaN: a friction impulse found while a box
+    touched, 4 mm from its centre, was warm-started on the next step onto the same key
+    2 m away, where the point's tangent lever arm is 1 m; ``contacts.carry_impulses``.)"""
+    world = p2.World(gravity=(0.0, -9.81), substeps=1)
+    world.add(
+        p2.Box(
+            position=(-0.032, -0.033), width=0.0028, height=0.019, angle=-0.32,
+            velocity=(-8.0, 84.0), angular_velocity=-6.0, restitution=0.5, friction=0.27,
+        )
+    )  # fmt: skip
+    world.add(
+        p2.Box(
+            position=(0.008, 0.008), width=0.0018, height=0.008, angle=0.05,
+            velocity=(15.0, 3.5), angular_velocity=-8.6, restitution=0.7, friction=0.36,
+        )
+    )  # fmt: skip
+    world.add(
+        p2.Circle(position=(-0.002, 0.027), radius=0.0018, velocity=(-22.0, 23.0), friction=0.08)
+    )
+    world.add(p2.Plane(normal=(1.0, 0.0), point=(-0.28, 0.0), friction=1.0))
+    world.add(p2.Plane(normal=(-1.0, 0.0), point=(2.0, 0.0), restitution=0.2, friction=0.76))
+    start = world.energy().total
+    for step in range(200):
+        world.step(0.0645)
+        energy = world.energy().total
+        assert np.isfinite(energy), f"step {step}"
+        assert energy <= 1.01 * start, f"step {step}: {energy:.3g} J of {start:.3g} J"

@@ -192,7 +192,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         if worst >= 0:
             plan_row[BAD_SPRING] = worst
             return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING
-    carry_impulses(contact, contact_i, world_i, w, points, ids, n)
+    carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
     project_out_of_planes(body, shapes, w, points, ids, n)
