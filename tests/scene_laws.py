@@ -102,12 +102,26 @@ def energy_excess(world: p2.World, dt: float, steps: int) -> float:
 
 def impact_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float:
     """An upper bound of the angular momentum the last step's impacts may exert
-    (``contacts.follow_bodies``): the points of two discs, and the points that may bounce
-    (a restitution > 0, closing faster than the threshold at the step start), keep the
-    Jacobian of the step start, ``m`` off the one world point with ``|m| <= dt |relative
-    velocity|``; so at most ``dt u J`` for a point of impulse ``J``, ``u`` the larger
-    relative speed of the pair at the start and end of the step. Every other point
-    pushes both bodies at one world point and exerts nothing."""
+    (``contacts.follow_bodies``). The points of two discs, and the points that may bounce
+    (a restitution > 0, closing faster than the threshold at the step start), keep their
+    anchors' offsets ``rA``, ``rB`` from the centres for the whole step; every other point
+    pushes both bodies at one world point and exerts nothing.
+
+    A kept point's push ``i``, at time ``t_i``, gives B the impulse ``P_i = l_i n + f_i t``
+    (normal and friction) and A ``-P_i``, so the angular momentum about the origin changes
+    by ``(xB + rB) x P_i - (xA + rA) x P_i = m(t_i) x P_i``, with ``m(t) = d(t) - d(0)``,
+    ``d = xB - xA`` (both anchors are at one world point at the step start). And
+    ``|m(t)| <= dt u``, ``u`` the largest relative speed of the two centres over the step
+    (estimated by its values at the start and end). Summed over the pushes::
+
+        |sum_i m(t_i) x P_i| <= dt u sum_i (|l_i| + |f_i|) = dt u G,
+
+    ``G`` the point's gross impulse (``ContactPoints.gross``). Not ``dt u J`` with ``J =
+    sum_i l_i`` the step's net normal impulse: pushes the solver's relax pass or the
+    bounce take back still turn the pair, ``+l`` at ``m_1`` then ``-l`` at ``m_2`` exerting
+    ``l (m_1 - m_2) x n`` with ``J = 0`` (two boxes whose corners met while a spring pulled
+    one away had every push taken back and turned by 8e-5 of the angular momentum's scale
+    in one step: ``test_random_scenes``), and friction turns the pair as well."""
     c = world.contacts()
     if c.size == 0:
         return 0.0
@@ -126,7 +140,7 @@ def impact_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float
     if not kept.any():
         return 0.0
     after = world.state.body[0, :, VX : VY + 1]
-    a, b, j = a[kept], b[kept], c.impulse[kept]
+    a, b, j = a[kept], b[kept], c.gross[kept]
     u = np.maximum(np.hypot(*(before[b] - before[a]).T), np.hypot(*(after[b] - after[a]).T))
     return float((dt * u * j).sum())
 

@@ -42,6 +42,7 @@ from .state import (
     ENABLED,
     FEATURE,
     FRICTION,
+    GROSS_IMPULSE,
     HALF_W,
     NORMAL_IMPULSE,
     POINT_X,
@@ -62,6 +63,7 @@ from .workspace import (
     ACCEL_Y,
     APPROACH_SPEED,
     BIAS_RATE,
+    GROSS_J,
     IIA,
     IIB,
     IMA,
@@ -228,7 +230,11 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     along the Jacobian that speed was measured on, and pushes spread over several
     Jacobians (the solver's passes as the anchors move, then the bounce) would not keep
     the energy of an elastic impact (a spinning box striking a pebble gained 1 %). Such
-    an impact exerts the torque ``m x impulse`` of the discs above, bounded the same way."""
+    an impact exerts the torque ``m x impulse`` of the discs above, summed over every push
+    of the step: ``sum_i m(t_i) x P_i``, at most ``dt |relative velocity|`` times the sizes
+    of the pushes summed (``GROSS_J``), which pushes taken back by the relax pass or the
+    bounce add to (``+P`` at ``m_1``, then ``-P`` at ``m_2``, exerts ``(m_1 - m_2) x P``
+    with no net impulse)."""
     threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
@@ -291,6 +297,7 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         same_after = k + 1 < n and ids[k + 1, 0] == a and ids[k + 1, 1] == b
         points[k, SHARED] = 1.0 if same_before or same_after else 0.0
         points[k, STEP_J] = 0.0
+        points[k, GROSS_J] = 0.0
         points[k, MAX_J] = 0.0
         points[k, IMPACT_V] = 0.0
 
@@ -322,6 +329,7 @@ def _copy_point(merged, merged_ids, m, points, ids, k, terms) -> None:
     merged[m, NORMAL_IMPULSE] = points[k, NORMAL_J]
     merged[m, TANGENT_IMPULSE] = points[k, TANGENT_J]
     merged[m, STEP_IMPULSE] = points[k, STEP_J]
+    merged[m, GROSS_IMPULSE] = points[k, GROSS_J]
     merged[m, APPROACH] = points[k, APPROACH_SPEED]
     merged[m, POINT_X] = terms[a, X0] + points[k, RAX]
     merged[m, POINT_Y] = terms[a, Y0] + points[k, RAY]
@@ -349,7 +357,7 @@ def store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged,
             if dormant(body_i, contact_i, world_i, w, terms, j - 1):
                 for column in range(CONTACT_F):
                     merged[m, column] = contact[w, j - 1, column]
-                merged[m, STEP_IMPULSE] = 0.0
+                merged[m, STEP_IMPULSE] = merged[m, GROSS_IMPULSE] = 0.0
                 for column in range(CONTACT_I):
                     merged_ids[m, column] = contact_i[w, j - 1, column]
                 m += 1

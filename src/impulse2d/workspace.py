@@ -69,8 +69,9 @@ TARGET = 31  # restitution: the normal velocity to reach
 BOUNCE = 32  # restitution: 0 not bouncing, 1 alone in its pair, 2 sharing the pair's bounce
 KEEP = 33  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
 AGAINST_PLANE = 34  # 1.0 if B is a plane (solved last, see solver.solve)
-POINT_F = 35
-MERGED_F = 9  # = state.CONTACT_F: the contact cache being written
+GROSS_J = 35  # sum of |normal| + |tangent| of every push over the step (N s)
+POINT_F = 36
+MERGED_F = 10  # = state.CONTACT_F: the contact cache being written
 
 
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
