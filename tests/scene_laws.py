@@ -14,7 +14,7 @@ import numpy as np
 
 import impulse2d as p2
 import scenes_random as sr
-from impulse2d.state import ANGLE, HEALTH, MASS, MOMENT, VX, VY, W, X, Y
+from impulse2d.state import ANGLE, HEALTH, KEPT_TORQUE, MASS, MOMENT, VX, VY, W, X, Y
 
 ENERGY_TOLERANCE = 0.01  # relative kinetic energy gain allowed (solver error)
 MOMENTUM_TOLERANCE = 1e-9  # relative drift of linear and angular momentum
@@ -102,15 +102,33 @@ def energy_excess(world: p2.World, dt: float, steps: int) -> float:
 
 def impact_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float:
     """An upper bound of the angular momentum the last step's impacts may exert
-    (``contacts.follow_bodies``): the points of two discs, and the points that may bounce
-    (a restitution > 0, closing faster than the threshold at the step start), keep the
-    Jacobian of the step start, ``m`` off the one world point with ``|m| <= dt |relative
-    velocity|``; so at most ``dt u J`` for a point of impulse ``J``, ``u`` the larger
-    relative speed of the pair at the start and end of the step. Every other point
-    pushes both bodies at one world point and exerts nothing."""
+    (``contacts.follow_bodies``); every other point pushes both bodies at one world point
+    and exerts nothing.
+
+    A point that may bounce (a restitution > 0, closing faster than the threshold at the
+    step start) keeps its anchors' offsets ``rA``, ``rB`` from the centres for the whole
+    step. Its push ``i`` gives B the impulse ``P_i = l_i n + f_i t`` (normal and friction)
+    and A ``-P_i``, so the angular momentum about the origin changes by ``(xB + rB) x P_i
+    - (xA + rA) x P_i = m(t_i) x P_i``, with ``m(t) = d(t) - d(0)``, ``d = xB - xA`` (both
+    anchors are at one world point at the step start). Summed over the pushes::
+
+        |sum_i m(t_i) x P_i| <= max |m| sum_i (|l_i| + |f_i|),
+
+    which the engine records per point (``state.KEPT_TORQUE``: pushes happen only where
+    the positions stand between integrations, where it measures ``|m|``). Not the net
+    normal impulse: pushes the relax pass or the bounce take back still turn the pair,
+    ``+l`` at ``m_1`` then ``-l`` at ``m_2`` exerting ``l (m_1 - m_2) x n`` with no net
+    impulse (``test_random_scenes``), and friction turns the pair as well.
+
+    Two discs that do not bounce keep their anchors on the normal through both centres,
+    which before they touch is the line of centres at the predicted impact: their pushes
+    act ``m`` off it, ``|m| <= dt u``, ``u`` the larger relative speed of the centres at
+    the step's start and end; so at most ``dt u G``, ``G`` the gross impulse
+    (``ContactPoints.gross``)."""
     c = world.contacts()
     if c.size == 0:
         return 0.0
+    kept_torque = float(world.state.contact[0, : c.size, KEPT_TORQUE].sum())
     slots = world.objects["bodies"]
     disc = np.array([isinstance(slots[i], p2.Circle) for i in range(len(slots))] + [False])
     bouncy = np.array(
@@ -122,13 +140,13 @@ def impact_torque_bound(world: p2.World, before: np.ndarray, dt: float) -> float
     )
     a, b = c.slot_a, c.slot_b
     bounce = (bouncy[a] | bouncy[b]) & (c.approach < -world.restitution_threshold)
-    kept = (disc[a] & disc[b]) | bounce
-    if not kept.any():
-        return 0.0
+    discs = disc[a] & disc[b] & ~bounce
+    if not discs.any():
+        return kept_torque
     after = world.state.body[0, :, VX : VY + 1]
-    a, b, j = a[kept], b[kept], c.impulse[kept]
+    a, b, gross = a[discs], b[discs], c.gross[discs]
     u = np.maximum(np.hypot(*(before[b] - before[a]).T), np.hypot(*(after[b] - after[a]).T))
-    return float((dt * u * j).sum())
+    return kept_torque + float((dt * u * gross).sum())
 
 
 def momentum_excess(world: p2.World, dt: float, steps: int) -> tuple[float, float]:

@@ -212,7 +212,8 @@ def test_angular_momentum_is_conserved_but_for_impacts(scene):
     """Circles and boxes, any restitution, no springs: the same, beyond what impacts may
     exert (two discs are pushed along the line of centres at the predicted impact, and a
     point that may bounce keeps the Jacobian of the step start, for the bounce's energy:
-    each at most ``dt u J``, ``scene_laws.impact_torque_bound``)."""
+    each at most ``dt u G``, ``G`` the sizes of the point's pushes summed,
+    ``scene_laws.impact_torque_bound``)."""
     _, angular = laws.momentum_excess(built(scene, sleeping=False), scene.dt, STEPS)
     target(angular, label="angular momentum error beyond the bound / tolerance")
     assert angular <= 1.0, f"angular momentum drifted by {angular:.3g} x 1e-9 beyond the bound"
@@ -240,6 +241,73 @@ def test_discs_that_touch_keep_angular_momentum_exactly():
     run(world, 1.0 / 30.0, 30)
     assert a.angular_velocity < 16.0 and b.angular_velocity < 4.0  # friction acted
     assert abs(laws.momenta(world)[1] - start) <= 1e-12 * abs(start)
+
+
+def test_pushes_a_bounce_takes_back_still_turn_the_pair():
+    """A box at 52 m/s strikes a tall one with two corners (restitution 0.96) while a stiff
+    spring pulls it away: the bounce takes every push of the step back (net normal
+    impulse 0 at both points), but the pushes kept the step start's Jacobian and were made
+    where the boxes stood earlier, so the pair turned: angular momentum changed by 0.0168
+    (8e-5 of its scale) in the first step. The bound counts every push
+    (``ContactPoints.gross``, 6.3 N s here), not the net impulse; over 200 steps the drift
+    stays within it (it was 7e4 times the tolerance beyond a bound from the net)."""
+
+    def boxes() -> p2.World:
+        world = p2.World(gravity=(0.0, 0.0), substeps=8, sleeping=False)
+        a = world.add(
+            p2.Box(
+                position=(0.23, 0.0),
+                width=0.15,
+                height=0.4,
+                angle=2.14,
+                velocity=(51.6, 0.0),
+                angular_velocity=-1.0,
+                restitution=0.96,
+                friction=0.013,
+            )
+        )
+        world.add(
+            p2.Box(
+                position=(0.0, 4.3),
+                width=2.15,
+                height=10.0,
+                velocity=(-14.2, -2.2),
+                restitution=0.71,
+                friction=0.12,
+            )
+        )
+        b = world.add(
+            p2.Box(
+                position=(1.25, -6.2),
+                width=0.28,
+                height=0.16,
+                angle=-0.42,
+                velocity=(-21.0, 6.15),
+                angular_velocity=0.6,
+                restitution=0.5,
+                friction=0.0,
+            )
+        )
+        world.add(
+            p2.Spring(
+                a, b, rest_length=1.54, stiffness=6860.0, damping=450.0, anchor2=(0.14, 0.074)
+            )
+        )
+        return world
+
+    dt = 0.00027
+    world = boxes()
+    _, start = laws.momenta(world)
+    before = world.state.body[0, :, VX : VY + 1].copy()
+    world.step(dt)
+    c = world.contacts()
+    turned = laws.momenta(world)[1] - start
+    assert 0.015 < turned < 0.02
+    np.testing.assert_array_equal(c.impulse, 0.0)  # every push taken back
+    assert 6.0 < c.gross.sum() < 6.6
+    assert turned <= laws.impact_torque_bound(world, before, dt)
+    _, angular = laws.momentum_excess(boxes(), dt, 200)
+    assert angular <= 1.0
 
 
 # -- 6. energy ------------------------------------------------------------------------------------

@@ -43,7 +43,9 @@ from .state import (
     ENABLED,
     FEATURE,
     FRICTION,
+    GROSS_IMPULSE,
     HALF_W,
+    KEPT_TORQUE,
     NORMAL_IMPULSE,
     POINT_X,
     POINT_Y,
@@ -63,6 +65,8 @@ from .workspace import (
     ACCEL_Y,
     APPROACH_SPEED,
     BIAS_RATE,
+    DRIFT,
+    GROSS_J,
     HALF_SPEC,
     IIA,
     IIB,
@@ -249,20 +253,29 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     along the Jacobian that speed was measured on, and pushes spread over several
     Jacobians (the solver's passes as the anchors move, then the bounce) would not keep
     the energy of an elastic impact (a spinning box striking a pebble gained 1 %). Such
-    an impact exerts the torque ``m x impulse`` of the discs above, bounded the same way."""
+    an impact exerts the torque ``m x impulse`` of the discs above, summed over every push
+    of the step: ``sum_i m(t_i) x P_i``, at most ``dt |relative velocity|`` times the sizes
+    of the pushes summed (``GROSS_J``), which pushes taken back by the relax pass or the
+    bounce add to (``+P`` at ``m_1``, then ``-P`` at ``m_2``, exerts ``(m_1 - m_2) x P``
+    with no net impulse). Pushes happen only where the positions stand between two
+    integrations (the step start, ``m = 0``, and after each of them, here), so the
+    largest ``|m|`` seen here (``DRIFT``) times ``GROSS_J`` bounds that torque exactly;
+    the contact cache keeps it (``state.KEPT_TORQUE``) for the tests of the law."""
     threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
-        if points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold:
-            continue  # may bounce: see the docstring
-        keep = points[k, KEEP]
         a, b = ids[k, 0], ids[k, 1]
+        mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
+        my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
+        if points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold:
+            # May bounce (see the docstring): its pushes act ``m`` apart.
+            points[k, DRIFT] = max(points[k, DRIFT], math.hypot(mx, my))
+            continue
+        keep = points[k, KEEP]
         if keep == 2.0:
             along_line_of_centres(body, w, terms, points, k, a, b)
             continue
-        mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
-        my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
         if keep == 0.0:
             set_jacobian(points, k, 0.0, 0.0, -mx, -my)
         else:
@@ -312,6 +325,7 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         same_after = k + 1 < n and ids[k + 1, 0] == a and ids[k + 1, 1] == b
         points[k, SHARED] = 1.0 if same_before or same_after else 0.0
         points[k, STEP_J] = 0.0
+        points[k, GROSS_J] = points[k, DRIFT] = 0.0
         points[k, MAX_J] = 0.0
 
 
@@ -342,6 +356,8 @@ def _copy_point(merged, merged_ids, m, points, ids, k, terms) -> None:
     merged[m, NORMAL_IMPULSE] = points[k, NORMAL_J]
     merged[m, TANGENT_IMPULSE] = points[k, TANGENT_J]
     merged[m, STEP_IMPULSE] = points[k, STEP_J]
+    merged[m, GROSS_IMPULSE] = points[k, GROSS_J]
+    merged[m, KEPT_TORQUE] = points[k, DRIFT] * points[k, GROSS_J]
     merged[m, APPROACH] = points[k, APPROACH_SPEED]
     merged[m, POINT_X] = terms[a, X0] + points[k, RAX]
     merged[m, POINT_Y] = terms[a, Y0] + points[k, RAY]
@@ -369,7 +385,8 @@ def store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged,
             if dormant(body_i, contact_i, world_i, w, terms, j - 1):
                 for column in range(CONTACT_F):
                     merged[m, column] = contact[w, j - 1, column]
-                merged[m, STEP_IMPULSE] = 0.0
+                merged[m, STEP_IMPULSE] = merged[m, GROSS_IMPULSE] = 0.0
+                merged[m, KEPT_TORQUE] = 0.0
                 for column in range(CONTACT_I):
                     merged_ids[m, column] = contact_i[w, j - 1, column]
                 m += 1

@@ -50,6 +50,8 @@ from .state import (
     ENABLED,
     FX,
     FY,
+    GROSS_IMPULSE,
+    KEPT_TORQUE,
     KINEMATIC,
     PLANE,
     STEP_IMPULSE,
@@ -87,7 +89,8 @@ def at_rest(body_i, shapes, w) -> bool:
 def rest_step(body, contact, world_i, time, w, ctx) -> None:
     """A step of a world at rest: only the clock moves (and nothing pushed)."""
     for j in range(world_i[w, CONTACT_COUNT]):
-        contact[w, j, STEP_IMPULSE] = 0.0
+        contact[w, j, STEP_IMPULSE] = contact[w, j, GROSS_IMPULSE] = 0.0
+        contact[w, j, KEPT_TORQUE] = 0.0
     body[w, :, FX] = 0.0
     body[w, :, FY] = 0.0
     body[w, :, TORQUE] = 0.0

@@ -27,6 +27,7 @@ from .state import (
     CONTACT_NY,
     DYNAMIC,
     ENABLED,
+    GROSS_IMPULSE,
     HALF_H,
     HALF_W,
     MASS,
@@ -79,8 +80,10 @@ class ContactPoints:
     """The contact points of one world at its last step, one entry per point: the two
     bodies' slots, the point (m, midway between the surfaces), the unit normal from A to
     B, the separation (m, < 0: overlap), the normal impulse over the step (N s; 0 for a
-    speculative point that never touched, or a point resting in a sleeping pile) and the
-    normal velocity at the step start (m/s, < 0: closing)."""
+    speculative point that never touched, or a point resting in a sleeping pile), the
+    normal velocity at the step start (m/s, < 0: closing) and the gross impulse, the sizes
+    of all its normal and friction pushes over the step summed (N s; at least
+    ``impulse``, more where the solver or the bounce took a push back)."""
 
     slot_a: np.ndarray
     slot_b: np.ndarray
@@ -89,6 +92,7 @@ class ContactPoints:
     separation: np.ndarray
     impulse: np.ndarray
     approach: np.ndarray
+    gross: np.ndarray
 
     @property
     def size(self) -> int:
@@ -148,6 +152,7 @@ def contact_points(state: WorldState, world: int) -> ContactPoints:
         separation=rows[:, SEPARATION].copy(),
         impulse=rows[:, STEP_IMPULSE].copy(),
         approach=rows[:, APPROACH].copy(),
+        gross=rows[:, GROSS_IMPULSE].copy(),
     )
 
 

@@ -37,6 +37,7 @@ from .workspace import (
     APPROACH_SPEED,
     BIAS_RATE,
     BOUNCE,
+    GROSS_J,
     HALF_SPEC,
     IIA,
     IIB,
@@ -75,7 +76,10 @@ _PLANE_SWEEPS = 4  # sweeps of the points against planes in each pass (see solve
 def push(body, w, a, b, points, k, normal, tangent) -> None:
     """Apply ``normal`` along n and ``tangent`` along t at point ``k``: to B, and the
     opposite to A. (Kernels index ``array[w, i, COLUMN]`` throughout: row views inside
-    loops cost numba reference counting and make a solver sweep four times slower.)"""
+    loops cost numba reference counting and make a solver sweep four times slower.)
+    ``GROSS_J`` sums the pushes' sizes: what a point that keeps the step start's Jacobian
+    may exert as torque is bounded by it (see ``contacts.follow_bodies``)."""
+    points[k, GROSS_J] += abs(normal) + abs(tangent)
     nx, ny = points[k, NX], points[k, NY]
     px = normal * nx + tangent * ny  # t = (n_y, -n_x)
     py = normal * ny - tangent * nx

@@ -91,7 +91,11 @@ APPROACH = 3  # normal relative velocity at the start of the step (m/s, < 0: clo
 POINT_X, POINT_Y = 4, 5  # the point, midway between the surfaces, at the step start (m)
 CONTACT_NX, CONTACT_NY = 6, 7  # unit normal from A to B
 SEPARATION = 8  # gap along the normal at the step start (m, < 0: overlap)
-CONTACT_F = 9
+GROSS_IMPULSE = 9  # |normal| + |tangent| of every push over the last step, summed (N s)
+# A bound on the angular impulse (N m s) the point exerted over the last step by keeping
+# its anchors (contacts.follow_bodies): the farthest they moved apart times the gross.
+KEPT_TORQUE = 10
+CONTACT_F = 11
 BODY_A, BODY_B, FEATURE = 0, 1, 2  # slots, and which vertex/face made the point
 CONTACT_I = 3
 

@@ -68,8 +68,10 @@ TARGET = 29  # restitution: minus the normal velocity to reach
 BOUNCE = 30  # restitution: 1.0 if the point bounces
 KEEP = 31  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
 AGAINST_PLANE = 32  # 1.0 if B is a plane (solved last, see solver.solve)
-POINT_F = 33
-MERGED_F = 9  # = state.CONTACT_F: the contact cache being written
+GROSS_J = 33  # sum of |normal| + |tangent| of every push over the step (N s)
+DRIFT = 34  # a point that keeps its anchors: the farthest they moved apart this step (m)
+POINT_F = 35
+MERGED_F = 11  # = state.CONTACT_F: the contact cache being written
 
 
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
