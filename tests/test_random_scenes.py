@@ -249,8 +249,9 @@ def test_pushes_a_bounce_takes_back_still_turn_the_pair():
     impulse 0 at both points), but the pushes kept the step start's Jacobian and were made
     where the boxes stood earlier, so the pair turned: angular momentum changed by 0.0168
     (8e-5 of its scale) in the first step. The bound counts every push
-    (``ContactPoints.gross``, 6.3 N s here), not the net impulse; over 200 steps the drift
-    stays within it (it was 7e4 times the tolerance beyond a bound from the net)."""
+    (``ContactPoints.gross``, 6.3 N s here), not the net impulse, at the farthest the
+    anchors drifted apart (``state.KEPT_TORQUE``); over 200 steps the drift stays within
+    it (it was 7e4 times the tolerance beyond a bound from the net)."""
 
     def boxes() -> p2.World:
         world = p2.World(gravity=(0.0, 0.0), substeps=8, sleeping=False)
@@ -305,7 +306,8 @@ def test_pushes_a_bounce_takes_back_still_turn_the_pair():
     assert 0.015 < turned < 0.02
     np.testing.assert_array_equal(c.impulse, 0.0)  # every push taken back
     assert 6.0 < c.gross.sum() < 6.6
-    assert turned <= laws.impact_torque_bound(world, before, dt)
+    bound = laws.impact_torque_bound(world, before, dt)
+    assert turned <= bound < 10.0 * turned  # within it, and not so loose it says nothing
     _, angular = laws.momentum_excess(boxes(), dt, 200)
     assert angular <= 1.0
 
