@@ -18,6 +18,7 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
+from gymnasium.vector import AutoresetMode
 
 try:  # imported as part of the repo (``bench.env_runs``) ...
     from bench import pymunk_pool_env as peer
@@ -82,7 +83,12 @@ def _make(env_id: str, num_envs: int | None = None) -> gym.Env | gym.vector.Vect
             raise NotInstalled(f"{module_name} has no {attr}")
     if num_envs is None:
         return gym.make(env_id)
-    return gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+    # Same-step autoreset: every vector step is one shot per world (NEXT_STEP spends a
+    # step on each reset), as SB3 training runs it.
+    return gym.make_vec(
+        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
+        autoreset_mode=AutoresetMode.SAME_STEP,
+    )  # fmt: skip
 
 
 def _summary(env: Any, shots: int, seconds: float, steps: list, pots: list) -> dict[str, Any]:

@@ -1,6 +1,7 @@
-"""Gymnasium environments on the impulse2d engine: ``Pool2D-v0`` and ``Slingshot2D-v0``.
+"""Gymnasium environments on the impulse2d engine: ``Pool2D-v0`` and ``Slingshot2D-v0``,
+and their learnable variants ``Pool2DOneBall-v0`` and ``Slingshot2DHandmade-v0``.
 
-``import impulse2d`` registers both (when gymnasium is installed), and so does
+``import impulse2d`` registers them (when gymnasium is installed), and so does
 ``gym.make("impulse2d:Pool2D-v0")`` in a fresh process. Each id also has a vector entry
 point that steps all its worlds in one batched engine:
 ``gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point")``.
@@ -9,6 +10,13 @@ point that steps all its worlds in one batched engine:
 from __future__ import annotations
 
 IDS = ("Pool2D-v0", "Slingshot2D-v0")
+# The learnable variants, for tools that take only an id (RL Zoo, CleanRL, TorchRL): the
+# README's first pool task (one object ball at a random spot, five shots an episode) and
+# the hand-made slingshot levels. Each is its base game with these keyword arguments.
+VARIANTS = {
+    "Pool2DOneBall-v0": ("Pool2D-v0", {"num_balls": 1, "layout": "random"}, 5),
+    "Slingshot2DHandmade-v0": ("Slingshot2D-v0", {"level": "handmade"}, 10),
+}
 
 
 def register() -> None:
@@ -29,3 +37,12 @@ def register() -> None:
         vector_entry_point="impulse2d.envs.slingshot:Slingshot2DVectorEnv",
         max_episode_steps=10,
     )
+    for variant, (base, kwargs, max_steps) in VARIANTS.items():
+        spec = gym.spec(base)
+        gym.register(
+            id=variant,
+            entry_point=spec.entry_point,
+            vector_entry_point=spec.vector_entry_point,
+            max_episode_steps=max_steps,
+            kwargs=kwargs,
+        )

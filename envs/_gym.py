@@ -6,11 +6,20 @@ game with ``num_envs`` worlds stepped in one engine. Env ``i`` of a vector env r
 ``seed`` uses the generator ``np_random(seed + i)``, the one a single env reset with
 ``seed + i`` gets from ``super().reset``, so both play bitwise the same episodes.
 
-Autoreset (vector env): ``AutoresetMode.SAME_STEP``, as Gymnasium's ``SyncVectorEnv``
-does it. When an env's episode ends, ``step`` returns the first observation of its next
-episode; the last observation of the finished one is in ``info["final_obs"][i]`` and its
-info in ``info["final_info"]`` (every info key has a ``_key`` mask saying which envs it
-holds, Gymnasium's layout).
+Autoreset (vector env), chosen with Gymnasium's keyword ``autoreset_mode`` and exposed
+as the attribute ``autoreset_mode`` and in ``metadata``:
+
+* ``AutoresetMode.NEXT_STEP`` (the default, as for Gymnasium's ``SyncVectorEnv``): the
+  step that ends an env's episode returns its last observation; the next ``step``
+  starts its new episode, ignores its action and returns the first observation, reward
+  0 and neither terminated nor truncated.
+* ``AutoresetMode.SAME_STEP``: the step that ends an episode returns the first
+  observation of the next one; the last observation of the finished one is in
+  ``info["final_obs"][i]`` and its info in ``info["final_info"]``. (SB3's convention,
+  and no vector step spent on resets: what ``make_sb3_vec_env`` and the benchmarks use.)
+
+Every info key has a ``_key`` mask saying which envs it holds (Gymnasium's layout).
+``reset(options={"reset_mask": mask})`` resets only the envs of a boolean mask.
 """
 
 from __future__ import annotations
@@ -41,6 +50,10 @@ class _Frames:
         self.renderer: Any = None
         self.frames: list[np.ndarray] = []
         self.window: Any = None
+        if render_mode == "human":  # no display: say so now, not at the first shot
+            from impulse2d.envs._window import require_display
+
+            require_display()
         if render_mode in ("rgb_array_list", "human"):
             game.frame_every = max(1, round(1.0 / (RENDER_FPS * game.dt)))
             game.on_frame = self.during_shot
@@ -140,7 +153,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
     metadata: ClassVar[dict[str, Any]] = {
         "render_modes": ["rgb_array"],
         "render_fps": RENDER_FPS,
-        "autoreset_mode": AutoresetMode.SAME_STEP,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
     }
     game_class: type[ShotGame]
 
@@ -150,8 +163,11 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         max_episode_steps: int | None = None,
         render_mode: str | None = None,
         threads: int | None = None,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
         **game_options: Any,
     ) -> None:
+        self.autoreset_mode = _autoreset_mode(autoreset_mode)
+        self.metadata = {**type(self).metadata, "autoreset_mode": self.autoreset_mode}
         self.game = self.game_class(num_envs, **game_options)
         self.game.world.threads = threads
         self.num_envs = self.game.batch_size
@@ -168,6 +184,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self._moves = np.zeros(self.num_envs, np.int64)
         self._all = np.arange(self.num_envs)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)  # NEXT_STEP: reset at next step
         self._ready = False
 
     def reset(
@@ -184,11 +201,17 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             seeds = list(seed)
             if len(seeds) != self.num_envs:
                 raise ValueError(f"seed must be an int or {self.num_envs} seeds, got {len(seeds)}")
+        envs = self._all
+        if options and "reset_mask" in options:
+            if not self._ready:
+                raise RuntimeError("call reset() without reset_mask first")
+            envs = np.flatnonzero(_reset_mask(options["reset_mask"], self.num_envs))
         if seed is not None or not self._ready:
-            for i, s in enumerate(seeds):
-                self.game.rngs[i] = seeding.np_random(s)[0]
-        self.game.reset(self._all)
-        self._moves[:] = 0
+            for i in envs:
+                self.game.rngs[i] = seeding.np_random(seeds[i])[0]
+        self.game.reset(envs)
+        self._moves[envs] = 0
+        self._autoreset[envs] = False
         self._ready = True
         return self.game.observe(), {}
 
@@ -198,11 +221,11 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         if not self._ready:
             raise RuntimeError("call reset() before step()")
         actions = check_action(actions, self.action_space.shape)
+        if self.autoreset_mode is AutoresetMode.NEXT_STEP:
+            return self._step_next(actions)
         reward, terminated, info = self.game.shoot(self._all, actions)
         self._moves += 1
-        truncated = np.zeros(self.num_envs, dtype=bool)
-        if self.max_episode_steps is not None:
-            truncated = (self._moves >= self.max_episode_steps) & ~terminated
+        truncated = self._truncated(terminated)
         observations = self.game.observe()
         infos: dict[str, Any] = {}
         done = terminated | truncated
@@ -220,6 +243,37 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         infos.update(_masked(info, ~done))
         return observations, reward, terminated, truncated, infos
 
+    def _truncated(self, terminated: np.ndarray) -> np.ndarray:
+        if self.max_episode_steps is None:
+            return np.zeros(self.num_envs, dtype=bool)
+        return (self._moves >= self.max_episode_steps) & ~terminated
+
+    def _step_next(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """A NEXT_STEP vector step: the envs whose episode ended at the last step start
+        their next one (their actions ignored); the others shoot."""
+        starting = self._autoreset.copy()
+        if starting.any():
+            self.game.reset(np.flatnonzero(starting))
+            self._moves[starting] = 0
+        playing = np.flatnonzero(~starting)
+        reward = np.zeros(self.num_envs, dtype=np.float64)
+        terminated = np.zeros(self.num_envs, dtype=bool)
+        infos: dict[str, Any] = {}
+        if playing.size:
+            shot_reward, shot_terminated, info = self.game.shoot(playing, actions[playing])
+            reward[playing], terminated[playing] = shot_reward, shot_terminated
+            self._moves[playing] += 1
+            full = {}
+            for key, value in info.items():
+                full[key] = np.zeros((self.num_envs, *value.shape[1:]), dtype=value.dtype)
+                full[key][playing] = value
+            infos = _masked(full, ~starting)
+        truncated = self._truncated(terminated) & ~starting
+        self._autoreset = terminated | truncated
+        return self.game.observe(), reward, terminated, truncated, infos
+
     def render(self) -> tuple[np.ndarray, ...] | None:
         """``rgb_array``: one frame per world, as a tuple."""
         if self.render_mode != "rgb_array":
@@ -228,6 +282,35 @@ class ShotVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         self._frames.close()
+
+
+def _autoreset_mode(mode: Any) -> AutoresetMode:
+    """``AutoresetMode.NEXT_STEP`` or ``SAME_STEP``, also given as their values
+    (``"NextStep"``, as Gymnasium's own vector envs take them) or names."""
+    known = None
+    if isinstance(mode, AutoresetMode):
+        known = mode
+    elif isinstance(mode, str):
+        for member in AutoresetMode:
+            if mode in (member.value, member.name, member.name.lower()):
+                known = member
+    if known not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+        raise ValueError(
+            "autoreset_mode must be AutoresetMode.NEXT_STEP or AutoresetMode.SAME_STEP "
+            f"(or 'NextStep', 'SameStep'), got {mode!r}"
+        )
+    return known
+
+
+def _reset_mask(mask: Any, num_envs: int) -> np.ndarray:
+    """``options["reset_mask"]``: a boolean array of one flag per env, some set."""
+    if not isinstance(mask, np.ndarray) or mask.dtype != np.bool_ or mask.shape != (num_envs,):
+        raise ValueError(
+            f"options['reset_mask'] must be a numpy bool array of shape ({num_envs},), got {mask!r}"
+        )
+    if not mask.any():
+        raise ValueError("options['reset_mask'] must select at least one env, got none")
+    return mask
 
 
 def _scalars(info: dict[str, np.ndarray]) -> dict[str, Any]:

@@ -6,6 +6,7 @@ the error says what to install or to use ``render_mode="rgb_array"`` instead.
 
 from __future__ import annotations
 
+import os
 from typing import Any
 
 import numpy as np
@@ -22,12 +23,35 @@ def load_pygame() -> Any:
     return pygame
 
 
+# SDL's video drivers that draw into memory: SDL falls back on them when it finds no
+# display, and a window "opens" that nobody can see.
+_HEADLESS_DRIVERS = ("offscreen", "dummy")
+
+
+def require_display() -> Any:
+    """pygame with its display started, or a RuntimeError naming the missing display
+    when SDL found no real one (unless the user chose a headless driver with
+    ``SDL_VIDEODRIVER``, as tests do)."""
+    pygame = load_pygame()
+    pygame.display.init()
+    driver = pygame.display.get_driver()
+    if driver in _HEADLESS_DRIVERS and os.environ.get("SDL_VIDEODRIVER", "") != driver:
+        pygame.display.quit()
+        found = {name: os.environ.get(name) for name in ("DISPLAY", "WAYLAND_DISPLAY")}
+        raise RuntimeError(
+            f"render_mode='human' needs a display, and SDL found none (it fell back on its "
+            f"{driver!r} driver; DISPLAY={found['DISPLAY']!r}, "
+            f"WAYLAND_DISPLAY={found['WAYLAND_DISPLAY']!r}): use render_mode='rgb_array' "
+            "for frames as arrays, or run under a display (xvfb-run on a server)"
+        )
+    return pygame
+
+
 class Window:
     """Shows ``(height, width, 3)`` frames, at most ``fps`` per second."""
 
     def __init__(self, width: int, height: int, fps: float, title: str = "impulse2d") -> None:
-        pygame = self.pygame = load_pygame()
-        pygame.display.init()
+        pygame = self.pygame = require_display()
         try:
             self.screen = pygame.display.set_mode((width, height))
         except pygame.error as error:

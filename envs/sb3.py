@@ -19,8 +19,11 @@ It behaves like SB3's ``DummyVecEnv`` over single envs seeded the same way:
   last step's, with ``terminal_observation`` and ``TimeLimit.truncated`` (truncated and
   not terminated), and its new episode's reset info goes to ``reset_infos[i]``.
 
-The vector env must reset finished envs in the same step (``AutoresetMode.SAME_STEP``,
-SB3's convention); other modes are refused.
+SB3 resets finished envs in the step that ends them. A vector env that does so
+(``AutoresetMode.SAME_STEP``) is passed through; one that resets them at the next step
+(``NEXT_STEP``, Gymnasium's default) or never (``DISABLED``) has them reset at once with
+``reset(options={"reset_mask": done})``, as Gymnasium's vector envs allow: the same
+episodes, bitwise. ``make_sb3_vec_env`` asks the batched env for ``SAME_STEP``.
 
 Attributes and methods live on the one batched env, not on per-env objects: ``get_attr``
 returns its value once per requested index, ``env_method`` calls the method once and
@@ -50,24 +53,24 @@ _FINAL_KEYS = ("final_obs", "_final_obs", "final_info", "_final_info")
 
 
 class SB3VecEnv(VecEnv):
-    """SB3's ``VecEnv`` API over a ``gym.vector.VectorEnv`` with same-step autoreset.
+    """SB3's ``VecEnv`` API over a ``gym.vector.VectorEnv`` (any autoreset mode).
 
     ``observation_space`` and ``action_space`` are the vector env's *single* spaces, as
     SB3 expects. See the module docstring for seeding, infos and attributes.
     """
 
     def __init__(self, venv: gym.vector.VectorEnv) -> None:
-        mode = venv.metadata.get("autoreset_mode", AutoresetMode.NEXT_STEP)
+        mode = getattr(venv, "autoreset_mode", None)
+        mode = (
+            venv.metadata.get("autoreset_mode", AutoresetMode.NEXT_STEP) if mode is None else mode
+        )
         try:
             mode = AutoresetMode(mode)
         except ValueError:
-            pass  # report the unknown value as it is
-        if mode is not AutoresetMode.SAME_STEP:
-            name = mode.name if isinstance(mode, AutoresetMode) else repr(mode)
             raise ValueError(
-                f"SB3VecEnv needs a vector env with AutoresetMode.SAME_STEP (SB3 resets "
-                f"finished envs in the same step), got autoreset_mode {name}"
-            )
+                f"SB3VecEnv: unknown autoreset_mode {mode!r} of the vector env"
+            ) from None
+        self.same_step = mode is AutoresetMode.SAME_STEP
         self.venv = venv
         self._actions: np.ndarray | None = None
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
@@ -102,6 +105,8 @@ class SB3VecEnv(VecEnv):
         terminated = np.asarray(terminated, dtype=bool)
         truncated = np.asarray(truncated, dtype=bool)
         dones = terminated | truncated
+        if not self.same_step and dones.any():
+            obs, info = self._reset_finished(obs, info, dones)
         final_obs = info.get("final_obs")
         final_info = info.get("final_info", {})
         infos: list[dict[str, Any]] = []
@@ -118,6 +123,34 @@ class SB3VecEnv(VecEnv):
                 env_info["TimeLimit.truncated"] = False
             infos.append(env_info)
         return _copy(obs), np.asarray(rewards, dtype=np.float32), dones, infos
+
+    def _reset_finished(
+        self, obs: np.ndarray, info: dict[str, Any], dones: np.ndarray
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Same-step autoreset over a NEXT_STEP or DISABLED vector env: the finished envs
+        reset now, their last observation and info laid out as SAME_STEP gives them."""
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        for i in np.flatnonzero(dones):
+            final_obs[i] = np.array(obs[i], copy=True)
+        fresh, reset_info = self.venv.reset(options={"reset_mask": dones.copy()})
+        obs = np.array(obs, copy=True)
+        obs[dones] = np.asarray(fresh)[dones]
+        # The still-running envs keep their step info; the finished ones get their reset
+        # info, and their step info moves to final_info.
+        merged = _select(info, ~dones)
+        fresh_info = _select(reset_info, dones)
+        for key, value in fresh_info.items():
+            if key.startswith("_") or f"_{key}" not in fresh_info:
+                continue
+            mask = fresh_info[f"_{key}"]
+            if key in merged and f"_{key}" in merged:
+                merged[key] = np.where(mask, value, merged[key])
+                merged[f"_{key}"] = merged[f"_{key}"] | mask
+            else:
+                merged[key], merged[f"_{key}"] = value, mask
+        merged.update({"final_obs": final_obs, "_final_obs": dones.copy()})
+        merged.update({"final_info": info, "_final_info": dones.copy()})
+        return obs, merged
 
     def close(self) -> None:
         self.venv.close()
@@ -195,6 +228,7 @@ def make_sb3_vec_env(
     """``gym.make_vec(env_id, num_envs, vectorization_mode="vector_entry_point", **kwargs)``
     as an SB3 ``VecEnv``; with ``seed``, env ``i`` is seeded ``seed + i`` at the first
     ``reset()`` (which SB3's algorithms call)."""
+    kwargs.setdefault("autoreset_mode", AutoresetMode.SAME_STEP)  # no step spent on resets
     venv = gym.make_vec(
         env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **kwargs
     )
@@ -202,6 +236,15 @@ def make_sb3_vec_env(
     if seed is not None:
         env.seed(seed)
     return env
+
+
+def _select(info: dict[str, Any], envs: np.ndarray) -> dict[str, Any]:
+    """``info`` (Gymnasium's vector layout) with every ``_key`` mask limited to ``envs``."""
+    out: dict[str, Any] = {}
+    for key, value in info.items():
+        is_mask = key.startswith("_") and key[1:] in info
+        out[key] = np.asarray(value, dtype=bool) & envs if is_mask else value
+    return out
 
 
 def _env_info(info: dict[str, Any], i: int) -> dict[str, Any]:

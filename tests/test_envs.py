@@ -18,6 +18,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env as gym_check_env
+from gymnasium.vector import AutoresetMode
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import impulse2d  # noqa: F401  (registers the ids)
@@ -108,9 +109,10 @@ def test_vector_env_i_equals_a_single_env_seeded_seed_plus_i(env_id: str, defaul
     moves = actions(steps, seed=2, shape=(n, 2))
     options = {} if defaults else OPTIONS[env_id]
     venv = gym.make_vec(
-        env_id, n, vectorization_mode="vector_entry_point", max_episode_steps=3, **options
-    )
-    assert venv.metadata["autoreset_mode"] == gym.vector.AutoresetMode.SAME_STEP
+        env_id, n, vectorization_mode="vector_entry_point", max_episode_steps=3,
+        autoreset_mode=gym.vector.AutoresetMode.SAME_STEP, **options,
+    )  # fmt: skip
+    assert venv.autoreset_mode == venv.metadata["autoreset_mode"] == AutoresetMode.SAME_STEP
     vector = [venv.reset(seed=seed)[0]]
     vector_final: dict[tuple[int, int], np.ndarray] = {}
     vector_rewards = []
@@ -133,6 +135,97 @@ def test_vector_env_i_equals_a_single_env_seeded_seed_plus_i(env_id: str, defaul
             else:
                 assert (t, i) not in vector_final
             assert obs.tobytes() == vector[t + 1][i].tobytes()
+
+
+@pytest.mark.parametrize("env_id", IDS)
+def test_next_step_autoreset_is_gymnasiums_sync_vector_env_bitwise(env_id: str) -> None:
+    """The default, NEXT_STEP: every return of every step is what Gymnasium's own
+    SyncVectorEnv over single envs gives in that mode (the step after an episode ends
+    resets the env, ignores its action, reward 0), bitwise; ``reset_mask`` resets only
+    the chosen envs, as there."""
+    n, steps, seed = 4, 6, 5
+    moves = actions(steps, seed=3, shape=(n, 2))
+    native = gym.make_vec(env_id, n, vectorization_mode="vector_entry_point",
+                          max_episode_steps=2, **OPTIONS[env_id])  # fmt: skip
+    sync = gym.make_vec(env_id, n, vectorization_mode="sync", max_episode_steps=2,
+                        vector_kwargs={"autoreset_mode": AutoresetMode.NEXT_STEP},
+                        **OPTIONS[env_id])  # fmt: skip
+    assert native.autoreset_mode is native.metadata["autoreset_mode"] is AutoresetMode.NEXT_STEP
+    first, second = native.reset(seed=seed)[0], sync.reset(seed=seed)[0]
+    assert first.tobytes() == second.tobytes()
+    ended = 0
+    for t in range(steps):
+        mine, theirs = native.step(moves[t]), sync.step(moves[t])
+        for a, b in zip(mine[:4], theirs[:4], strict=True):
+            assert np.asarray(a).tobytes() == np.asarray(b).astype(np.asarray(a).dtype).tobytes()
+        ended += int((mine[2] | mine[3]).sum())
+    assert ended >= n  # every env went through an autoreset
+    mask = np.array([True, False, False, True])
+    mine, theirs = (
+        native.reset(options={"reset_mask": mask}),
+        sync.reset(options={"reset_mask": mask.copy()}),
+    )
+    assert mine[0].tobytes() == theirs[0].tobytes()
+
+
+def test_gymnasiums_vector_wrappers_work_on_the_vector_env() -> None:
+    """What CleanRL-style scripts put on it: ``FlattenObservation`` and
+    ``NormalizeObservation`` (which need NEXT_STEP or DISABLED autoreset) and
+    ``RecordEpisodeStatistics``, through episodes that end."""
+    from gymnasium.wrappers import vector as vw
+
+    venv = gym.make_vec("Pool2D-v0", 3, vectorization_mode="vector_entry_point",
+                        max_episode_steps=2, **OPTIONS["Pool2D-v0"])  # fmt: skip
+    venv = vw.RecordEpisodeStatistics(vw.NormalizeObservation(vw.FlattenObservation(venv)))
+    obs, _ = venv.reset(seed=0)
+    episodes = 0
+    for t in range(5):
+        obs, _, _, _, info = venv.step(actions(1, seed=t, shape=(3, 2))[0])
+        assert obs.shape == (3, *venv.single_observation_space.shape) and np.isfinite(obs).all()
+        if "episode" in info:
+            episodes += int(info["_episode"].sum())
+            assert (info["episode"]["l"][info["_episode"]] == 2).all()  # the step cap
+    assert episodes >= 3
+    venv.close()
+
+
+@pytest.mark.parametrize("variant", ["Pool2DOneBall-v0", "Slingshot2DHandmade-v0"])
+def test_a_learnable_variant_is_its_base_game_with_the_task_s_arguments(variant) -> None:
+    """For tools that take only an id: each registered variant plays bitwise as the base
+    id made with the variant's keyword arguments and episode length, single and batched,
+    and passes Gymnasium's checker."""
+    from impulse2d.envs import VARIANTS
+
+    base, kwargs, max_steps = VARIANTS[variant]
+    moves = actions(max_steps + 1, seed=4, shape=(2, 2))
+    for vector in (False, True):
+        if vector:
+            mine = gym.make_vec(variant, 2, vectorization_mode="vector_entry_point")
+            theirs = gym.make_vec(base, 2, vectorization_mode="vector_entry_point",
+                                  max_episode_steps=max_steps, **kwargs)  # fmt: skip
+        else:
+            mine, theirs = gym.make(variant), gym.make(base, max_episode_steps=max_steps, **kwargs)
+        assert mine.reset(seed=6)[0].tobytes() == theirs.reset(seed=6)[0].tobytes()
+        ended = False
+        for t in range(max_steps + 1):
+            action = moves[t] if vector else moves[t, 0]
+            a, b = mine.step(action), theirs.step(action)
+            assert all(
+                np.asarray(x).tobytes() == np.asarray(y).tobytes()
+                for x, y in zip(a[:4], b[:4], strict=True)
+            )
+            ended |= bool(np.any(a[2]) or np.any(a[3]))
+        assert ended  # within the variant's episode length
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gym_check_env(gym.make(variant).unwrapped, skip_render_check=True)
+        sb3_check_env(gym.make(variant).unwrapped, warn=True)
+
+
+def test_vector_env_autoreset_mode_is_checked() -> None:
+    with pytest.raises(ValueError, match="autoreset_mode must be"):
+        gym.make_vec("Pool2D-v0", 2, vectorization_mode="vector_entry_point",
+                     autoreset_mode=AutoresetMode.DISABLED)  # fmt: skip
 
 
 @pytest.mark.parametrize("env_id", IDS)
@@ -206,6 +299,28 @@ def test_rgb_array_list_holds_the_frames_during_the_shot(env_id: str) -> None:
     changes = [not np.array_equal(a, b) for a, b in itertools.pairwise(frames)]
     assert sum(changes) >= 2  # the picture moves during the shot
     assert env.render() == []  # handed over once
+
+
+@pytest.mark.parametrize("env_id", IDS)
+def test_human_render_without_a_display_says_so_at_make(env_id, monkeypatch) -> None:
+    """No display server: SDL would fall back on drawing into memory and the env would
+    play in real time into nowhere; ``gym.make`` refuses, naming the display and the
+    render mode to use instead."""
+    for name in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
+        monkeypatch.delenv(name, raising=False)
+    with pytest.raises(RuntimeError, match="needs a display") as raised:
+        make(env_id, render_mode="human")
+    assert "DISPLAY=None" in str(raised.value) and "render_mode='rgb_array'" in str(raised.value)
+
+
+def test_human_render_with_a_headless_driver_asked_for_plays(monkeypatch) -> None:
+    """``SDL_VIDEODRIVER=dummy`` is the user's own choice (tests, recording): allowed."""
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    env = make("Pool2D-v0", render_mode="human")
+    env.reset(seed=0)
+    _, _, _, _, info = env.step(np.array([0.1, -1.0], np.float32))  # the softest shot
+    assert info["physics_steps"] > 0
+    env.close()
 
 
 def test_vector_env_renders_one_frame_per_world() -> None:

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import hashlib
 import multiprocessing
+import subprocess
+import sys
 
 import gymnasium as gym
 import numpy as np
@@ -127,3 +129,29 @@ def test_gymnasium_async_vector_env_matches_sync(context):
     reference = play(gym.vector.SyncVectorEnv(fns))
     got = play(gym.vector.AsyncVectorEnv(fns, context=context))
     np.testing.assert_array_equal(got, reference)
+
+
+def _run_python(code: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=600
+    )  # fmt: skip
+
+
+_SUBPROC = (
+    "from stable_baselines3.common.env_util import make_vec_env\n"
+    "from stable_baselines3.common.vec_env import SubprocVecEnv\n"
+    "v = make_vec_env({id!r}, n_envs=2, vec_env_cls=SubprocVecEnv, env_kwargs={{'num_balls': 1}})\n"
+    "print('observations', v.reset().shape)\n"
+    "v.close()\n"
+)
+
+
+def test_workers_that_never_imported_impulse2d_take_the_module_qualified_id():
+    """What the README tells users of ``SubprocVecEnv`` from ``python -c`` or a notebook:
+    its forkserver workers never import impulse2d, so the plain id is unknown there, and
+    ``impulse2d:Pool2D-v0`` works."""
+    plain = _run_python(_SUBPROC.format(id="Pool2D-v0"))
+    assert plain.returncode != 0 and "Pool2D" in plain.stderr and "exist" in plain.stderr
+    qualified = _run_python(_SUBPROC.format(id="impulse2d:Pool2D-v0"))
+    assert qualified.returncode == 0, qualified.stderr
+    assert "observations (2, " in qualified.stdout

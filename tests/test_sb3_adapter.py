@@ -134,26 +134,46 @@ def test_attributes_methods_and_wrappers() -> None:
     assert venv.env_is_wrapped(Monitor, indices=2) == [False]
 
 
-def test_refuses_other_autoreset_modes() -> None:
-    for mode in (AutoresetMode.NEXT_STEP, AutoresetMode.DISABLED):
-        sync = gym.make_vec(
-            "Pool2D-v0",
-            num_envs=2,
-            vectorization_mode="sync",
-            vector_kwargs={"autoreset_mode": mode},
-            num_balls=1,
-        )
-        with pytest.raises(ValueError, match=mode.name):
-            SB3VecEnv(sync)
-        sync.close()
-    same_step = gym.make_vec(
-        "Pool2D-v0",
-        num_envs=2,
-        vectorization_mode="sync",
-        vector_kwargs={"autoreset_mode": AutoresetMode.SAME_STEP},
-        num_balls=1,
-    )
-    assert SB3VecEnv(same_step).num_envs == 2
+def _record(venv: SB3VecEnv, steps: int = 6) -> list[Any]:
+    venv.seed(7)
+    record: list[Any] = [venv.reset()]
+    for a in actions(steps):
+        obs, rew, done, infos = venv.step(a)
+        finals = [info.get("terminal_observation") for info in infos]
+        record.append((obs, rew, done, finals, [i["TimeLimit.truncated"] for i in infos]))
+    venv.close()
+    return record
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, np.ndarray):
+        return a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    return a == b
+
+
+@pytest.mark.parametrize("mode", list(AutoresetMode))
+def test_every_autoreset_mode_gives_sb3_the_same_episodes(mode: AutoresetMode) -> None:
+    """SB3 sees the same-step convention whatever the vector env does: the batched env in
+    SAME_STEP or NEXT_STEP and Gymnasium's SyncVectorEnv of single envs in any of the
+    three modes (finished envs reset through ``reset_mask``) give bitwise the same
+    observations, rewards, dones and terminal observations."""
+    reference = _record(batched(autoreset_mode=AutoresetMode.SAME_STEP))
+    assert any(done.any() for _, _, done, _, _ in reference[1:])  # episodes do end
+    sync = gym.make_vec(
+        "Pool2D-v0", num_envs=N, vectorization_mode="sync",
+        vector_kwargs={"autoreset_mode": mode}, **FAST,
+    )  # fmt: skip
+    assert _same(_record(SB3VecEnv(sync)), reference)
+    if mode is not AutoresetMode.DISABLED:
+        assert _same(_record(batched(autoreset_mode=mode)), reference)
+
+
+def test_make_sb3_vec_env_asks_for_same_step() -> None:
+    venv = make_sb3_vec_env("Pool2D-v0", N, seed=0, **FAST)
+    assert venv.venv.autoreset_mode is AutoresetMode.SAME_STEP and venv.same_step
+    venv.close()
 
 
 def test_render_and_get_images() -> None:
