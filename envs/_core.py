@@ -21,12 +21,20 @@ reset in a vector environment leaves the other worlds exactly as they were.
 Subclasses fill in the game: ``_new_episode`` (set the template up from a world's own
 random generator), ``_launch`` (apply the actions), ``_score`` (reward, end of episode
 and info after a shot, from what the engine recorded), ``observe`` and
-``make_renderer``.
+``make_renderer``; and ``per_world``, the names of their attributes with one row per
+world (what a saved state must hold besides the worlds and the generators).
+
+``save_state`` and ``restore_state`` are the cheap save and restore planners need (tens
+of microseconds for a table, against milliseconds for a ``deepcopy``): the worlds'
+snapshot, each world's generator state and the per-world rows; restored into all worlds
+or chosen ones, the game then plays bitwise as it did from the saved position.
 """
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -36,6 +44,16 @@ from impulse2d import _checks
 from impulse2d.render import Renderer
 
 Info = dict[str, np.ndarray]
+
+
+@dataclass(frozen=True)
+class GameState:
+    """A saved ``ShotGame``: its worlds' snapshot, each world's random generator state and
+    the game's per-world rows (``ShotGame.per_world``), all copies."""
+
+    world: p2.Snapshot
+    rngs: tuple[dict[str, Any], ...]
+    rows: dict[str, np.ndarray]
 
 
 class ShotGame:
@@ -53,6 +71,7 @@ class ShotGame:
     observation_low: np.ndarray
     observation_high: np.ndarray
     action_size = 2
+    per_world: tuple[str, ...] = ()  # attributes with a leading world axis (saved states)
 
     def __init__(self, batch_size: int) -> None:
         self.batch_size = _checks.positive_int("num_envs", batch_size)
@@ -89,6 +108,35 @@ class ShotGame:
         coordinates, m) in world ``world``: how ``python -m impulse2d.play`` turns a drag
         into a move. Returns a float64 action in [-1, 1]."""
         raise NotImplementedError
+
+    # -- saved states ---------------------------------------------------------------------------
+    def save_state(self) -> GameState:
+        """Everything a shot reads and writes, copied (see the module docstring)."""
+        return GameState(
+            self.world.snapshot(),
+            tuple(copy.deepcopy(rng.bit_generator.state) for rng in self.rngs),
+            {name: np.array(getattr(self, name), copy=True) for name in self.per_world},
+        )
+
+    def restore_state(self, state: GameState, worlds: Any = None) -> np.ndarray:
+        """Put a saved state back into every world, or only into ``worlds`` (indices);
+        returns the worlds restored. The state must come from this game (or one built
+        with the same arguments and number of worlds)."""
+        if not isinstance(state, GameState):
+            raise ValueError(f"state must be a saved state, got {type(state).__name__}")
+        if len(state.rngs) != self.batch_size or state.rows.keys() != set(self.per_world):
+            raise ValueError(
+                f"state is of a game with {len(state.rngs)} worlds, not this one's "
+                f"{self.batch_size}"
+            )
+        picked = np.arange(self.batch_size) if worlds is None else np.asarray(worlds)
+        self.world.restore(state.world, worlds=picked)  # checks the indices and the scene
+        picked = picked.reshape(-1).astype(np.int64)
+        for w in picked:
+            self.rngs[w].bit_generator.state = copy.deepcopy(state.rngs[w])
+        for name, rows in state.rows.items():
+            getattr(self, name)[picked] = rows[picked]
+        return picked
 
     # -- the game loop --------------------------------------------------------------------------
     @property

@@ -94,6 +94,8 @@ def rack_positions() -> np.ndarray:
 class PoolGame(ShotGame):
     """Pool on ``batch_size`` tables at once (see ``Pool2DEnv`` for the rules)."""
 
+    per_world = ("potted", "_potted_before", "_potential_before")
+
     def __init__(
         self,
         batch_size: int = 1,
@@ -441,6 +443,10 @@ class Pool2DEnv(ShotEnv):
       results do not depend on it.
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
       (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window).
+
+    ## Saving and restoring
+    `env.unwrapped.save_state()` and `restore_state(state)` save and bring back a table's
+    position, bitwise (see `ShotEnv`); the vector env restores chosen `worlds=[...]`.
 
     ## Version History
     * v0: first version.

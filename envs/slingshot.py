@@ -47,6 +47,8 @@ class SlingshotGame(ShotGame):
     its level (the batched engine needs that) and the observation has a fixed size.
     """
 
+    per_world = ("max_health", "_in_level", "material", "birds_left", "_alive_before")
+
     def __init__(
         self,
         batch_size: int = 1,
@@ -412,6 +414,10 @@ class Slingshot2DEnv(ShotEnv):
     * `render_mode`: `"rgb_array"` (480x270 frame after the launch), `"rgb_array_list"`
       (frames at 30 per simulated second during the launches), `"human"` (pygame-ce
       window).
+
+    ## Saving and restoring
+    `env.unwrapped.save_state()` and `restore_state(state)` save and bring back a level's
+    position, bitwise (see `ShotEnv`); the vector env restores chosen `worlds=[...]`.
 
     ## Version History
     * v0: first version.
