@@ -17,13 +17,13 @@ def _record(wrapper: type, folder) -> tuple[int, int]:
     """Frames in the video of a one-shot episode, and the shot's physics steps."""
     env = wrapper(
         gym.make("Pool2D-v0", num_balls=1, max_episode_steps=1, render_mode="rgb_array_list"),
-        str(folder),
+        str(folder / "videos"),  # a new folder: RecordVideo warns about existing ones
         disable_logger=True,
     )
     env.reset(seed=0)
     *_, info = env.step(np.array([0.1, 0.3], np.float32))
     env.close()
-    (video,) = folder.glob("*.mp4")
+    (video,) = (folder / "videos").glob("*.mp4")
     return iio.imread(video).shape[0], info["physics_steps"]
 
 
