@@ -17,6 +17,9 @@ as the attribute ``autoreset_mode`` and in ``metadata``:
   observation of the next one; the last observation of the finished one is in
   ``info["final_obs"][i]`` and its info in ``info["final_info"]``. (SB3's convention,
   and no vector step spent on resets: what ``make_sb3_vec_env`` and the benchmarks use.)
+* ``AutoresetMode.DISABLED``: nothing resets by itself; an env whose episode ended must
+  be reset with ``reset(options={"reset_mask": mask})`` before it is stepped again
+  (TorchRL's preferred mode).
 
 Every info key has a ``_key`` mask saying which envs it holds (Gymnasium's layout).
 ``reset(options={"reset_mask": mask})`` resets only the envs of a boolean mask.
@@ -263,6 +266,8 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         actions = check_action(actions, self.action_space.shape)
         if self.autoreset_mode is AutoresetMode.NEXT_STEP:
             return self._step_next(actions)
+        if self.autoreset_mode is AutoresetMode.DISABLED:
+            return self._step_disabled(actions)
         reward, terminated, info = self.game.shoot(self._all, actions)
         self._moves += 1
         truncated = self._truncated(terminated)
@@ -335,6 +340,23 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         self._autoreset = terminated | truncated
         return self.game.observe(), reward, terminated, truncated, infos
 
+    def _step_disabled(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """A DISABLED vector step: every env shoots; ended episodes wait for a reset."""
+        if self._autoreset.any():
+            ended = np.flatnonzero(self._autoreset).tolist()
+            raise RuntimeError(
+                f"envs {ended} ended their episodes and autoreset_mode is DISABLED: reset "
+                "them first with reset(options={'reset_mask': mask})"
+            )
+        reward, terminated, info = self.game.shoot(self._all, actions)
+        self._moves += 1
+        truncated = self._truncated(terminated)
+        self._autoreset = terminated | truncated
+        infos = _masked(info, np.ones(self.num_envs, dtype=bool))
+        return self.game.observe(), reward, terminated, truncated, infos
+
     def render(self) -> tuple[np.ndarray, ...] | None:
         """``rgb_array``: one frame per world, as a tuple."""
         if self.render_mode != "rgb_array":
@@ -346,7 +368,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
 
 
 def _autoreset_mode(mode: Any) -> AutoresetMode:
-    """``AutoresetMode.NEXT_STEP`` or ``SAME_STEP``, also given as their values
+    """``AutoresetMode.NEXT_STEP``, ``SAME_STEP`` or ``DISABLED``, also given as their values
     (``"NextStep"``, as Gymnasium's own vector envs take them) or names."""
     known = None
     if isinstance(mode, AutoresetMode):
@@ -355,10 +377,10 @@ def _autoreset_mode(mode: Any) -> AutoresetMode:
         for member in AutoresetMode:
             if mode in (member.value, member.name, member.name.lower()):
                 known = member
-    if known not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+    if known is None:
         raise ValueError(
-            "autoreset_mode must be AutoresetMode.NEXT_STEP or AutoresetMode.SAME_STEP "
-            f"(or 'NextStep', 'SameStep'), got {mode!r}"
+            "autoreset_mode must be AutoresetMode.NEXT_STEP, SAME_STEP or DISABLED "
+            f"(or 'NextStep', 'SameStep', 'Disabled'), got {mode!r}"
         )
     return known
 

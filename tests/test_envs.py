@@ -225,7 +225,42 @@ def test_a_learnable_variant_is_its_base_game_with_the_task_s_arguments(variant)
 def test_vector_env_autoreset_mode_is_checked() -> None:
     with pytest.raises(ValueError, match="autoreset_mode must be"):
         gym.make_vec("Pool2D-v0", 2, vectorization_mode="vector_entry_point",
-                     autoreset_mode=AutoresetMode.DISABLED)  # fmt: skip
+                     autoreset_mode="sometimes")  # fmt: skip
+
+
+def test_disabled_autoreset_is_gymnasiums_and_asks_for_resets() -> None:
+    """DISABLED: nothing resets by itself (bitwise Gymnasium's SyncVectorEnv in that mode,
+    with the finished envs reset through ``reset_mask``), and stepping an env whose
+    episode ended without resetting it is refused with what to do."""
+    n, seed = 3, 2
+    moves = actions(6, seed=1, shape=(n, 2))
+    made = {
+        "native": gym.make_vec("Pool2D-v0", n, vectorization_mode="vector_entry_point",
+                               max_episode_steps=2, autoreset_mode=AutoresetMode.DISABLED,
+                               **OPTIONS["Pool2D-v0"]),
+        "sync": gym.make_vec("Pool2D-v0", n, vectorization_mode="sync", max_episode_steps=2,
+                             vector_kwargs={"autoreset_mode": AutoresetMode.DISABLED},
+                             **OPTIONS["Pool2D-v0"]),
+    }  # fmt: skip
+    runs = {}
+    for name, venv in made.items():
+        record = [venv.reset(seed=seed)[0]]
+        for t in range(6):
+            obs, reward, terminated, truncated, _ = venv.step(moves[t])
+            record += [obs, reward.astype(np.float64), terminated, truncated]
+            done = terminated | truncated
+            if done.any():
+                record.append(venv.reset(options={"reset_mask": done})[0])
+        runs[name] = record
+    assert len(runs["native"]) == len(runs["sync"]) > 25  # resets happened
+    for a, b in zip(runs["native"], runs["sync"], strict=True):
+        assert np.asarray(a).tobytes() == np.asarray(b).tobytes()
+    venv = made["native"]
+    venv.reset(seed=0)
+    venv.step(moves[0])
+    venv.step(moves[1])  # the step cap: every episode has ended
+    with pytest.raises(RuntimeError, match="reset_mask"):
+        venv.step(moves[2])
 
 
 @pytest.mark.parametrize("env_id", IDS)

@@ -1,6 +1,6 @@
 """TorchRL over the envs, as its users wrap them: ``GymEnv`` on an id and ``GymWrapper``
-on the batched vector env (TorchRL takes SAME_STEP or DISABLED autoreset; the vector env
-is made with SAME_STEP, as the README says)."""
+on the batched vector env (TorchRL takes DISABLED, its preferred mode, or SAME_STEP
+autoreset, as the README says)."""
 
 from __future__ import annotations
 
@@ -24,9 +24,10 @@ def test_gym_env_on_an_id_plays_an_episode_to_its_end():
     assert torch.isfinite(rollout["next", "observation"]).all()
 
 
-def test_gym_wrapper_on_the_batched_vector_env_goes_through_autoresets():
+@pytest.mark.parametrize("mode", [AutoresetMode.DISABLED, AutoresetMode.SAME_STEP])
+def test_gym_wrapper_on_the_batched_vector_env_goes_through_resets(mode):
     venv = gym.make_vec("Pool2DOneBall-v0", 4, vectorization_mode="vector_entry_point",
-                        autoreset_mode=AutoresetMode.SAME_STEP)  # fmt: skip
+                        autoreset_mode=mode)  # fmt: skip
     env = GymWrapper(venv)
     assert tuple(env.batch_size) == (4,)
     check_env_specs(env)
@@ -39,5 +40,5 @@ def test_gym_wrapper_on_the_batched_vector_env_goes_through_autoresets():
 
 def test_torchrl_names_the_mode_it_needs():
     venv = gym.make_vec("Pool2DOneBall-v0", 2, vectorization_mode="vector_entry_point")
-    with pytest.raises(RuntimeError, match="SAME_STEP"):
+    with pytest.raises(RuntimeError, match="DISABLED"):
         GymWrapper(venv)  # NEXT_STEP, the default: TorchRL says what to choose
