@@ -266,15 +266,15 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
         a, b = ids[k, 0], ids[k, 1]
+        bounces = points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold
+        keep = points[k, KEEP]
+        if keep == 2.0 and not bounces:
+            along_line_of_centres(body, w, terms, points, k, a, b)
+            continue
         mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
         my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
-        if points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold:
-            # May bounce (see the docstring): its pushes act ``m`` apart.
+        if bounces:  # may bounce (see the docstring): its pushes act ``m`` apart
             points[k, DRIFT] = max(points[k, DRIFT], math.hypot(mx, my))
-            continue
-        keep = points[k, KEEP]
-        if keep == 2.0:
-            along_line_of_centres(body, w, terms, points, k, a, b)
             continue
         if keep == 0.0:
             set_jacobian(points, k, 0.0, 0.0, -mx, -my)
