@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
+from bitwise import same_bitwise
 
 CASES = [
     ("Pool2D-v0", {"num_balls": 1}),
@@ -26,19 +27,6 @@ def _make(env_id: str, kwargs: dict[str, Any], vector: bool) -> Any:
     if vector:
         return gym.make_vec(env_id, 3, vectorization_mode="vector_entry_point", **kwargs)
     return gym.make(env_id, **kwargs)
-
-
-def _same(a: Any, b: Any) -> bool:
-    """Bitwise equal, through the tuples, dicts and object arrays of a step's returns."""
-    if isinstance(a, (list, tuple)):
-        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
-    if isinstance(a, dict):
-        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
-    if isinstance(a, np.ndarray) and a.dtype == object:
-        return all(_same(x, y) for x, y in zip(a, b, strict=True))
-    if a is None or b is None:
-        return a is b
-    return np.asarray(a).tobytes() == np.asarray(b).tobytes()
 
 
 @pytest.mark.parametrize("vector", [False, True], ids=["single", "vector"])
@@ -54,10 +42,10 @@ def test_a_copy_or_pickle_plays_on_exactly_as_the_original(env_id, kwargs, vecto
         action = rng.uniform(-1, 1, shape).astype(np.float32)
         reference = env.step(action)
         for other in copies:
-            assert _same(list(other.step(action)), list(reference))
+            assert same_bitwise(list(other.step(action)), list(reference))
     copies[0].reset(seed=9)  # the copies are their own: resetting one leaves the others
     action = rng.uniform(-1, 1, shape).astype(np.float32)
-    assert _same(list(copies[1].step(action)), list(env.step(action)))
+    assert same_bitwise(list(copies[1].step(action)), list(env.step(action)))
 
 
 def test_a_world_copy_has_its_own_state_and_replays_the_original():
@@ -94,7 +82,7 @@ def test_a_restored_single_env_replays_the_same_shots(env_id, kwargs):
     moves = rng.uniform(-1, 1, (5, 2)).astype(np.float32)
     first = _play(env, moves)
     assert env.restore_state(saved).tobytes() == start.tobytes()
-    assert _same(_play(env, moves), first)
+    assert same_bitwise(_play(env, moves), first)
     assert env.restore_state(saved).tobytes() == start.tobytes()  # a state is reusable
 
 

@@ -228,6 +228,16 @@ def test_vector_env_autoreset_mode_is_checked() -> None:
                      autoreset_mode="sometimes")  # fmt: skip
 
 
+@pytest.mark.parametrize(
+    "mask", [np.array([True, False]), np.array([1, 0, 1]), np.zeros(3, bool), [True] * 3]
+)
+def test_a_bad_reset_mask_is_refused_by_name(mask) -> None:
+    venv = gym.make_vec("Pool2D-v0", 3, vectorization_mode="vector_entry_point", num_balls=1)
+    venv.reset(seed=0)
+    with pytest.raises(ValueError, match="reset_mask"):
+        venv.reset(options={"reset_mask": mask})
+
+
 def test_disabled_autoreset_is_gymnasiums_and_asks_for_resets() -> None:
     """DISABLED: nothing resets by itself (bitwise Gymnasium's SyncVectorEnv in that mode,
     with the finished envs reset through ``reset_mask``), and stepping an env whose

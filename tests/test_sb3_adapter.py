@@ -17,6 +17,7 @@ from stable_baselines3.common.evaluation import evaluate_policy
 from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
 
+from bitwise import same_bitwise
 from impulse2d.envs.sb3 import SB3VecEnv, _env_info, make_sb3_vec_env
 
 N = 4
@@ -145,14 +146,6 @@ def _record(venv: SB3VecEnv, steps: int = 6) -> list[Any]:
     return record
 
 
-def _same(a: Any, b: Any) -> bool:
-    if isinstance(a, (list, tuple)):
-        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
-    if isinstance(a, np.ndarray):
-        return a.dtype == b.dtype and a.tobytes() == b.tobytes()
-    return a == b
-
-
 @pytest.mark.parametrize("mode", list(AutoresetMode))
 def test_every_autoreset_mode_gives_sb3_the_same_episodes(mode: AutoresetMode) -> None:
     """SB3 sees the same-step convention whatever the vector env does: the batched env
@@ -165,8 +158,8 @@ def test_every_autoreset_mode_gives_sb3_the_same_episodes(mode: AutoresetMode) -
         "Pool2D-v0", num_envs=N, vectorization_mode="sync",
         vector_kwargs={"autoreset_mode": mode}, **FAST,
     )  # fmt: skip
-    assert _same(_record(SB3VecEnv(sync)), reference)
-    assert _same(_record(batched(autoreset_mode=mode)), reference)
+    assert same_bitwise(_record(SB3VecEnv(sync)), reference)
+    assert same_bitwise(_record(batched(autoreset_mode=mode)), reference)
 
 
 def test_make_sb3_vec_env_asks_for_same_step() -> None:
