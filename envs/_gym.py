@@ -56,14 +56,21 @@ RENDER_FPS = 30  # frames per simulated second in rgb_array_list and human modes
 
 
 class _Frames:
-    """Rendering for one game: the frame after a shot, frames during it, or a window."""
+    """Rendering for one game: the frame after a shot, frames during it, or a window.
 
-    def __init__(self, game: ShotGame, render_mode: str | None, modes: list[str]) -> None:
+    ``frames[i]`` holds world ``i``'s frames since the last ``take()`` (``rgb_array_list``):
+    every world is drawn at each frame time, so the lists stay of one length and the
+    frames of one time can be tiled side by side. ``human`` shows world 0.
+    """
+
+    def __init__(
+        self, game: ShotGame, render_mode: str | None, modes: list[str], worlds: int = 1
+    ) -> None:
         if render_mode is not None and render_mode not in modes:
             raise ValueError(f"render_mode must be one of {modes} or None, got {render_mode!r}")
-        self.game, self.mode = game, render_mode
+        self.game, self.mode, self.worlds = game, render_mode, worlds
         self.renderer: Any = None
-        self.frames: list[np.ndarray] = []
+        self.frames: list[list[np.ndarray]] = [[] for _ in range(worlds)]
         self.window: Any = None
         if render_mode == "human":  # no display: say so now, not at the first shot
             from impulse2d.envs._window import require_display
@@ -78,11 +85,18 @@ class _Frames:
             self.renderer = self.game.make_renderer(*RENDER_SIZE)
         return self.renderer.render(self.game.world, world)
 
-    def during_shot(self, world: int) -> None:
+    def during_shot(self, _world: int = 0) -> None:
+        """One frame time: every world into its list, or world 0 into the window."""
         if self.mode == "rgb_array_list":
-            self.frames.append(self.frame(world))
+            for i, frames in enumerate(self.frames):
+                frames.append(self.frame(i))
         elif self.mode == "human":
-            self.show(self.frame(world))
+            self.show(self.frame(0))
+
+    def take(self) -> list[list[np.ndarray]]:
+        """Every world's frames since the last call (and forget them)."""
+        taken, self.frames = self.frames, [[] for _ in range(self.worlds)]
+        return taken
 
     def show(self, frame: np.ndarray) -> None:
         from impulse2d.envs._window import Window
@@ -131,7 +145,7 @@ class ShotEnv(gym.Env):
         self.game.rngs[0] = self.np_random
         self.game.reset([0])
         self._ready = True
-        self._frames.frames = []
+        self._frames.take()
         self._after_move()
         return self.game.observe()[0], {}
 
@@ -166,10 +180,7 @@ class ShotEnv(gym.Env):
             raise RuntimeError("call reset() before step(), save_state() or restore_state()")
 
     def _after_move(self) -> None:
-        if self.render_mode == "rgb_array_list":
-            self._frames.frames.append(self._frames.frame())
-        elif self.render_mode == "human":
-            self._frames.show(self._frames.frame())
+        self._frames.during_shot()
 
     def render(self) -> np.ndarray | list[np.ndarray] | None:
         """``rgb_array``: the frame now; ``rgb_array_list``: every frame since the last
@@ -177,8 +188,7 @@ class ShotEnv(gym.Env):
         if self.render_mode == "rgb_array":
             return self._frames.frame()
         if self.render_mode == "rgb_array_list":
-            frames, self._frames.frames = self._frames.frames, []
-            return frames
+            return self._frames.take()[0]
         return None
 
     def close(self) -> None:
@@ -189,12 +199,13 @@ class ShotVectorEnv(gym.vector.VectorEnv):
     """``num_envs`` games stepped in one batched engine (see the module docstring).
 
     ``max_episode_steps`` truncates episodes (``gym.make_vec`` passes the registered
-    value); ``render_mode="rgb_array"`` renders every world; ``threads`` is how many
+    value); ``render_mode="rgb_array"`` renders every world after each step, and
+    ``"rgb_array_list"`` also during the shots (see ``render``); ``threads`` is how many
     threads the batch is stepped on (default: every core; results do not depend on it).
     """
 
     metadata: ClassVar[dict[str, Any]] = {
-        "render_modes": ["rgb_array"],
+        "render_modes": ["rgb_array", "rgb_array_list"],
         "render_fps": RENDER_FPS,
         "autoreset_mode": AutoresetMode.NEXT_STEP,
     }
@@ -218,7 +229,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             max_episode_steps = _checks.positive_int("max_episode_steps", max_episode_steps)
         self.max_episode_steps = max_episode_steps
         self.render_mode = render_mode
-        self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"])
+        self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"], self.num_envs)
         self.single_observation_space = gym.spaces.Box(
             self.game.observation_low, self.game.observation_high, dtype=np.float32
         )
@@ -252,10 +263,13 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         if seed is not None or not self._ready:
             for i in envs:
                 self.game.rngs[i] = seeding.np_random(seeds[i])[0]
+        if envs is self._all:
+            self._frames.take()  # a new start: frames of earlier episodes are dropped
         self.game.reset(envs)
         self._moves[envs] = 0
         self._autoreset[envs] = False
         self._ready = True
+        self._frames.during_shot()  # rgb_array_list: the position after the reset
         return self.game.observe(), {}
 
     def step(
@@ -265,9 +279,18 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             raise RuntimeError("call reset() before step()")
         actions = check_action(actions, self.action_space.shape)
         if self.autoreset_mode is AutoresetMode.NEXT_STEP:
-            return self._step_next(actions)
-        if self.autoreset_mode is AutoresetMode.DISABLED:
-            return self._step_disabled(actions)
+            result = self._step_next(actions)
+        elif self.autoreset_mode is AutoresetMode.DISABLED:
+            result = self._step_disabled(actions)
+        else:
+            result = self._step_same(actions)
+        self._frames.during_shot()  # rgb_array_list: the position after the step
+        return result
+
+    def _step_same(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """A SAME_STEP vector step: every env shoots; ended episodes reset at once."""
         reward, terminated, info = self.game.shoot(self._all, actions)
         self._moves += 1
         truncated = self._truncated(terminated)
@@ -357,11 +380,18 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         infos = _masked(info, np.ones(self.num_envs, dtype=bool))
         return self.game.observe(), reward, terminated, truncated, infos
 
-    def render(self) -> tuple[np.ndarray, ...] | None:
-        """``rgb_array``: one frame per world, as a tuple."""
-        if self.render_mode != "rgb_array":
-            return None
-        return tuple(self._frames.frame(i) for i in range(self.num_envs))
+    def render(self) -> tuple[np.ndarray, ...] | tuple[list[np.ndarray], ...] | None:
+        """``rgb_array``: one frame per world, as a tuple. ``rgb_array_list``: per world,
+        its frames since the last call (30 per simulated second during the shots, and
+        one after each step and reset), laid out as ``SyncVectorEnv`` over single envs
+        in that mode gives them. The worlds move together, so every world is drawn at
+        each frame time until all are at rest, and the lists have one length. Record
+        with a few worlds (e.g. ``num_envs=4``), not a training batch."""
+        if self.render_mode == "rgb_array":
+            return tuple(self._frames.frame(i) for i in range(self.num_envs))
+        if self.render_mode == "rgb_array_list":
+            return tuple(self._frames.take())
+        return None
 
     def close_extras(self, **kwargs: Any) -> None:
         self._frames.close()

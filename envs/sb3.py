@@ -40,14 +40,16 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode
+from stable_baselines3.common.vec_env import VecVideoRecorder
 from stable_baselines3.common.vec_env.base_vec_env import (
     VecEnv,
     VecEnvIndices,
     VecEnvObs,
     VecEnvStepReturn,
+    tile_images,
 )
 
-__all__ = ["SB3VecEnv", "make_sb3_vec_env"]
+__all__ = ["RecordShotVecVideo", "SB3VecEnv", "make_sb3_vec_env"]
 
 _FINAL_KEYS = ("final_obs", "_final_obs", "final_info", "_final_info")
 
@@ -74,6 +76,15 @@ class SB3VecEnv(VecEnv):
         self.venv = venv
         self._actions: np.ndarray | None = None
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
+        # SB3 knows no ``rgb_array_list``: over such a vector env this adapter is an
+        # ``rgb_array`` VecEnv (``render()`` tiles each env's latest frame), and
+        # ``shot_frames()`` gives every frame of the last step, tiled the same way.
+        self._lists = self.render_mode == "rgb_array_list"
+        self._step_frames: list[list[np.ndarray]] = [[] for _ in range(self.num_envs)]
+        if self._lists:
+            self.render_mode = "rgb_array"
+        modes = ["human", "rgb_array"] if self._lists else self.metadata["render_modes"]
+        self.metadata = {"render_modes": modes, "render_fps": venv.metadata.get("render_fps", 30)}
 
     # -- reset and step -----------------------------------------------------------------------
     def reset(self) -> VecEnvObs:
@@ -89,6 +100,7 @@ class SB3VecEnv(VecEnv):
                 raise ValueError("a batched vector env takes one options dict for all envs")
             kwargs["options"] = options[0]
         obs, info = self.venv.reset(**kwargs)
+        self._keep_frames()
         self.reset_infos = [_env_info(info, i) for i in range(self.num_envs)]
         self._reset_seeds()
         self._reset_options()
@@ -107,6 +119,7 @@ class SB3VecEnv(VecEnv):
         dones = terminated | truncated
         if not self.same_step and dones.any():
             obs, info = self._reset_finished(obs, info, dones)
+        self._keep_frames()
         final_obs = info.get("final_obs")
         final_info = info.get("final_info", {})
         infos: list[dict[str, Any]] = []
@@ -164,10 +177,30 @@ class SB3VecEnv(VecEnv):
                 stacklevel=2,
             )
             return [None] * self.num_envs
+        if self._lists:
+            return [frames[-1] if frames else None for frames in self._step_frames]
         frames = self.venv.render()
         if frames is None:
             return [None] * self.num_envs
         return list(frames)
+
+    def shot_frames(self) -> list[np.ndarray]:
+        """Every frame of the last ``step`` (or ``reset``), each the envs' frames of one
+        moment tiled as ``render()`` tiles them: the motion during the shots. Needs a
+        vector env made with ``render_mode="rgb_array_list"``; ``RecordShotVecVideo``
+        writes these into SB3's videos."""
+        if not self._lists:
+            raise ValueError(
+                "shot_frames() needs a vector env made with render_mode='rgb_array_list', "
+                f"got render_mode={getattr(self.venv, 'render_mode', None)!r}"
+            )
+        moments = zip(*self._step_frames, strict=True)
+        return [tile_images(list(frames)) for frames in moments]
+
+    def _keep_frames(self) -> None:
+        """rgb_array_list: hold the frames of this step (those of earlier steps go)."""
+        if self._lists:
+            self._step_frames = [list(frames) for frames in self.venv.render()]
 
     # -- attributes: they live on the one batched env ------------------------------------------
     def get_attr(self, attr_name: str, indices: VecEnvIndices = None) -> list[Any]:
@@ -236,6 +269,22 @@ def make_sb3_vec_env(
     if seed is not None:
         env.seed(seed)
     return env
+
+
+class RecordShotVecVideo(VecVideoRecorder):
+    """SB3's ``VecVideoRecorder`` recording every frame of each step (the envs tiled, from
+    ``SB3VecEnv.shot_frames()``), where the recorder itself takes one frame a step: over
+    ``make_sb3_vec_env(..., render_mode="rgb_array_list")``, videos show the shots."""
+
+    def _capture_frame(self) -> None:
+        try:
+            shot_frames = self.env.shot_frames  # found through VecEnv wrappers too
+        except AttributeError:
+            raise ValueError(
+                "RecordShotVecVideo needs an SB3VecEnv (make_sb3_vec_env) of a vector env "
+                "made with render_mode='rgb_array_list'"
+            ) from None
+        self.recorded_frames += shot_frames()
 
 
 def _select(info: dict[str, Any], envs: np.ndarray) -> dict[str, Any]:

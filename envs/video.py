@@ -1,4 +1,5 @@
-"""Videos of the shots: Gymnasium's ``RecordVideo``, keeping every frame of each shot.
+"""Videos of the shots: Gymnasium's ``RecordVideo`` and SB3's ``VecVideoRecorder``,
+keeping every frame of each shot.
 
 One ``step`` of these envs is a whole shot, seconds of motion. Made with
 ``render_mode="rgb_array_list"``, an env renders the shot at 30 frames per simulated
@@ -11,6 +12,16 @@ Everything else (triggers, folders, names, fps from the env's metadata) is
 (``pip install 'impulse2d[video]'``)::
 
     env = RecordShotVideo(gym.make("Pool2D-v0", render_mode="rgb_array_list"), "videos")
+
+SB3's ``VecVideoRecorder`` likewise takes one tiled frame a step.
+``impulse2d.envs.sb3.RecordShotVecVideo`` is that recorder taking every frame of the
+step, over a vector env made with ``render_mode="rgb_array_list"`` (``video_length``
+counts frames, as there)::
+
+    venv = make_sb3_vec_env("Pool2D-v0", 4, seed=0, render_mode="rgb_array_list")
+    venv = RecordShotVecVideo(venv, "videos", lambda step: step == 0, video_length=300)
+
+Both record the shots as they were played: recording changes no result.
 """
 
 from __future__ import annotations
