@@ -147,11 +147,17 @@ def train(
     )
     start, done = time.perf_counter(), model.num_timesteps
     interrupted = False
+    # A terminal gets SB3's bar (its rate is shots/s); logs, CI and notebooks get lines.
+    from ._progress import ProgressLines, wants_lines
+
+    bar = progress_bar and not wants_lines() and _has_progress_bar()
+    lines = ProgressLines(config["n_timesteps"]) if progress_bar and not bar else None
     try:
         model.learn(
             total_timesteps=config["n_timesteps"],
             reset_num_timesteps=resume_path is None,
-            progress_bar=progress_bar and _has_progress_bar(),
+            progress_bar=bar,
+            callback=lines,
         )
     except KeyboardInterrupt:  # keep what was learnt so far; --resume can go on
         interrupted = True
@@ -262,7 +268,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="algorithm arguments overriding the YAML, e.g. learning_rate=1e-3",
     )
     parser.add_argument("--resume", default=None, help="model.zip (or its run dir) to go on from")
-    parser.add_argument("--no-progress-bar", action="store_true", help="train without a bar")
+    parser.add_argument(
+        "--no-progress-bar",
+        action="store_true",
+        help="train without the progress bar (in a terminal) or lines (elsewhere)",
+    )
     parser.add_argument(
         "--evaluate",
         action=argparse.BooleanOptionalAction,

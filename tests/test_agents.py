@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -258,6 +259,21 @@ def test_command_line_reports_bad_input_in_one_line() -> None:
     assert done.returncode != 0
     assert done.stderr.strip().splitlines()[-1].startswith("error: env must be one of")
     assert "Traceback" not in done.stderr
+
+
+def test_training_into_a_log_prints_progress_lines_with_shots_per_second(tmp_path) -> None:
+    """Output to a pipe (a log, CI, a notebook): plain progress lines, no redrawn bar."""
+    done = subprocess.run(
+        [sys.executable, "-m", "agents.train", "--timesteps", "64", "--num-envs", "4",
+         "--run-dir", str(tmp_path / "run"), "--env-kwargs", SHORT, "--no-evaluate",
+         "--hyperparams", *TINY["ppo"]],
+        cwd=ROOT, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    lines = [line for line in done.stdout.splitlines() if line.startswith("progress ")]
+    assert lines, done.stdout
+    assert re.search(r"64/64 shots \(100%\)  [\d,]+ shots/s", lines[-1]), lines[-1]
+    assert "\r" not in done.stdout + done.stderr  # no bar redrawn into the log
 
 
 def _escape(text: str) -> str:
