@@ -48,7 +48,7 @@ def learning_curve(
         steps, rewards = steps[keep], rewards[keep]
     if steps.size == 0:
         return False
-    plt, fig, ax = _reward_axes(title, baselines)
+    plt, fig, ax = reward_axes(title, baselines)
     ax.plot(steps, rewards, color="tab:blue", label="training episodes (recent mean)")
     if trained is not None:
         ax.errorbar(
@@ -61,11 +61,11 @@ def learning_curve(
             label="trained agent, evaluated (mean ± s.e.)",
         )
     ax.legend(fontsize=8, loc="best")
-    _save(plt, fig, out)
+    save_figure(plt, fig, out)
     return True
 
 
-def _reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any]:
+def reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any]:
     """pyplot (headless), a figure and its axes of reward against env steps, with the
     baselines' evaluation means as dashed lines (random red, scripted green)."""
     import matplotlib
@@ -84,7 +84,7 @@ def _reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any
     return plt, fig, ax
 
 
-def _save(plt: Any, fig: Any, out: Path) -> None:
+def save_figure(plt: Any, fig: Any, out: Path) -> None:
     fig.tight_layout()
     fig.savefig(out)
     plt.close(fig)
@@ -109,13 +109,13 @@ def seed_curves(
             curves.append((steps[keep], rewards[keep], label, evaluated))
     if not curves:
         return False
-    plt, fig, ax = _reward_axes(title, baselines)
+    plt, fig, ax = reward_axes(title, baselines)
     for index, (steps, rewards, label, evaluated) in enumerate(curves):
         colour = plt.get_cmap("Blues")(0.45 + 0.5 * index / max(1, len(curves) - 1))
         ax.plot(steps, rewards, color=colour, lw=1.2, label=f"{label}: training episodes")
         ax.plot([steps[-1]], [evaluated], "o", color=colour, label=f"{label}: evaluated")
     ax.legend(fontsize=7, loc="lower right", ncol=2)  # the curves rise to the top right
-    _save(plt, fig, out)
+    save_figure(plt, fig, out)
     return True
 
 
