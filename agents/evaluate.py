@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import _config, _media, _tasks
+from ._kernels import add_kernels_option, one_torch_thread, pin_torch_kernels
 
 POLICIES = ("trained", "random", "scripted")
 
@@ -68,6 +69,7 @@ def agent_policy(model: Any, config: dict[str, Any], normalizer: Any = None) -> 
         transform = TRANSFORMS[config["action_transform"]][1]
 
     def policy(obs: np.ndarray) -> np.ndarray:
+        one_torch_thread()  # the env's step may have set OpenMP to every core
         if normalizer is not None:
             obs = normalizer.normalize_obs(obs)
         action, _ = model.predict(obs, deterministic=True)
@@ -311,11 +313,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=1000, help="first episode seed (1000)")
     parser.add_argument("--video", choices=("gif", "mp4", "none"), default="gif")
     parser.add_argument("--video-shots", type=int, default=6, help="shots in the video (6)")
+    add_kernels_option(parser)
     return parser
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any] | str:
     args = build_parser().parse_args(argv)
+    if args.portable_kernels:
+        pin_torch_kernels()  # before torch loads, as agents.train does
     if args.summarize:
         table = summarize_runs(args.summarize, args.plot)
         if args.out:

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from . import _config
+from ._kernels import add_kernels_option, pin_torch_kernels
 
 ROOT = Path(__file__).resolve().parents[1]
 # Left out of the folder shipped to a cluster's workers.
@@ -98,6 +99,8 @@ def trial_config(spec: dict[str, Any], seed: int, setting: dict[str, Any]) -> di
 def run_trial(trial: dict[str, Any]) -> None:
     """One trial (Ray Tune's function trainable): train and evaluate in ``run/`` of the
     trial's directory, then report the evaluation and the learning curve to Tune."""
+    if trial["spec"]["portable_kernels"]:
+        pin_torch_kernels()  # a trial's worker is a fresh process: before torch loads
     from ray import tune
 
     from . import _media
@@ -302,6 +305,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--cpus-per-trial", type=int, default=2, help="CPUs Ray gives a trial")
     parser.add_argument("--address", default=None, help="a Ray cluster: auto or ray://HOST:PORT")
     parser.add_argument("--out", default=None, help="default runs/sweeps/<env>_<algo>")
+    add_kernels_option(parser)
     return parser
 
 
@@ -318,6 +322,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
         "overrides": _config.parse_overrides(args.hyperparams),
         "eval_episodes": _config.positive_count("eval_episodes", args.eval_episodes),
         "cpus_per_trial": _config.positive_count("cpus_per_trial", args.cpus_per_trial),
+        "portable_kernels": args.portable_kernels,
     }
     out = args.out or Path("runs") / "sweeps" / f"{env_id}_{algo}"
     return sweep(spec, parse_seeds(args.seeds), parse_search(args.search), out, args.address)

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from . import _config
+from ._kernels import add_kernels_option, pin_torch_kernels, torch_thread_callback
 
 DEFAULT_RUNS = Path("runs")
 
@@ -105,7 +106,7 @@ def train(
     from stable_baselines3.common.utils import set_random_seed
 
     # Two cores, shared: one thread keeps torch off the core the physics needs, and makes
-    # runs bitwise repeatable.
+    # runs bitwise repeatable (held there after every env step: agents/_kernels.py).
     torch.set_num_threads(1)
     run_dir = Path(run_dir)
     resume_path = _check_resume(resume)
@@ -151,13 +152,15 @@ def train(
     from ._progress import ProgressLines, wants_lines
 
     bar = progress_bar and not wants_lines() and _has_progress_bar()
-    lines = ProgressLines(config["n_timesteps"]) if progress_bar and not bar else None
+    callbacks = [torch_thread_callback()]
+    if progress_bar and not bar:
+        callbacks.append(ProgressLines(config["n_timesteps"]))
     try:
         model.learn(
             total_timesteps=config["n_timesteps"],
             reset_num_timesteps=resume_path is None,
             progress_bar=bar,
-            callback=lines,
+            callback=callbacks,
         )
     except KeyboardInterrupt:  # keep what was learnt so far; --resume can go on
         interrupted = True
@@ -177,6 +180,7 @@ def train(
         "wall_seconds": round(seconds, 1),
         "steps_per_second": round(steps / max(seconds, 1e-9), 1),
         "interrupted": interrupted,
+        "torch_kernels": _torch_kernels(),
     }
     (run_dir / "training.json").write_text(json.dumps(summary, indent=2) + "\n")
     print(
@@ -185,6 +189,21 @@ def train(
         flush=True,
     )
     return run_dir
+
+
+def _torch_kernels() -> dict[str, Any]:
+    """What decides torch's rounding in this run (``agents/_kernels.py``): its version,
+    threads, the ATen kernels in use and the named kernels, if any."""
+    import os
+
+    import torch
+
+    return {
+        "torch": torch.__version__,
+        "threads": torch.get_num_threads(),
+        "aten_kernels": torch.backends.cpu.get_cpu_capability(),
+        **{name: os.environ.get(name) for name in ("ATEN_CPU_CAPABILITY", "MKL_CBWR")},
+    }
 
 
 def _check_resume(resume: str | Path | None) -> Path | None:
@@ -282,12 +301,15 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--eval-episodes", type=int, default=100, help="episodes (default 100)")
     parser.add_argument("--eval-seed", type=int, default=1000, help="first episode seed")
     parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (default 0)")
+    add_kernels_option(parser)
     return parser
 
 
 def main(argv: list[str] | None = None) -> Path:
     """The command line: resolve the config, train, and evaluate unless told not to."""
     args = build_parser().parse_args(argv)
+    if args.portable_kernels:
+        pin_torch_kernels()  # before torch loads
     argv = sys.argv[1:] if argv is None else argv
     base = None
     if args.resume is not None:

@@ -12,7 +12,7 @@ import pytest
 
 pytest.importorskip("ray.tune")
 
-from agents import evaluate, sweep, train
+from agents import sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 SHORT = '{"max_shot_seconds": 2.0}'
@@ -38,17 +38,20 @@ def test_two_tiny_trials_are_the_runs_agents_train_gives(tmp_path: Path) -> None
     table = (out / "sweep.md").read_text()
     assert "learning_rate=0.0003" in table and "learning_rate=0.001" in table
     assert (out / "sweep.png").stat().st_size > 10_000
-    # Each trial is the run the training command gives with its seed and values.
+    # Each trial is the run the training command gives with its seed and values (run as
+    # a command: both then name torch's kernels before torch loads).
     for trial in trials:
         run_dir = tmp_path / f"direct_{trial['setting']['learning_rate']}"
-        train.main(
-            ["--env", "Pool2D-v0", "--algo", "ppo", "--timesteps", "64", "--num-envs", "4",
+        direct = subprocess.run(
+            [sys.executable, "-m", "agents.train", "--timesteps", "64", "--num-envs", "4",
              "--seed", "0", "--run-dir", str(run_dir), "--env-kwargs", SHORT,
-             "--no-progress-bar", "--no-evaluate", "--hyperparams", *TINY,
-             f"learning_rate={trial['setting']['learning_rate']}"]
+             "--no-progress-bar", "--eval-episodes", "3", "--hyperparams", *TINY,
+             f"learning_rate={trial['setting']['learning_rate']}"],
+            cwd=ROOT, capture_output=True, text=True, timeout=600,
         )  # fmt: skip
-        direct = evaluate.evaluate(run_dir, episodes=3, video=None)
-        assert direct["policies"] == trial["policies"]
+        assert direct.returncode == 0, direct.stderr[-2000:]
+        results = json.loads((run_dir / "results.json").read_text())
+        assert results["policies"] == trial["policies"]
         assert Path(trial["run_dir"], "model.zip").is_file()
     assert trials[0]["policies"]["trained"] != trials[1]["policies"]["trained"]
 
