@@ -51,7 +51,7 @@ class ProgressLines(BaseCallback):
     def _on_training_start(self) -> None:
         self.start_time = self.last_time = self.clock()
         self.start_steps = self.last_steps = self.model.num_timesteps
-        self.goal = self.start_steps + self.total if self.total else self.start_steps
+        self.goal = self.start_steps + self.total
 
     def _on_step(self) -> bool:
         now = self.clock()

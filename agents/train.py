@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import os
 import shlex
 import shutil
 import sys
@@ -194,8 +195,6 @@ def train(
 def _torch_kernels() -> dict[str, Any]:
     """What decides torch's rounding in this run (``agents/_kernels.py``): its version,
     threads, the ATen kernels in use and the named kernels, if any."""
-    import os
-
     import torch
 
     return {
