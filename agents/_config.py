@@ -14,6 +14,11 @@ signature, here, rather than deep inside Stable-Baselines3)::
       policy_kwargs: {net_arch: [128, 128], activation_fn: tanh}
       learning_rate: 3.0e-4     # ... and any other constructor argument
 
+A schedule is written as RL Zoo writes it: ``learning_rate: lin_5e-4`` (or ``clip_range:
+lin_0.2``) falls linearly from 5e-4 at the start of training to 0 at the end. SB3 calls a
+schedule with ``progress_remaining`` (1 at the start, 0 at the end), so the value is
+``progress_remaining * 5e-4``.
+
 ``activation_fn`` is written by name (``tanh``, ``relu``, ``elu``, ``leaky_relu``); it
 is turned into the torch class only when the model is built, so the resolved config
 written to a run directory stays plain YAML.
@@ -39,8 +44,9 @@ ENV_IDS = _envs.IDS
 # Keys of a hyperparameter entry that configure the run, not the algorithm.
 RUN_KEYS = ("n_timesteps", "n_envs", "env_kwargs", "normalize", "policy", "action_transform")
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
-EXTRACTORS = ("pool_relative",)  # agents/_features.py
+EXTRACTORS = ("pool_relative", "pool_pockets")  # agents/_features.py
 TRANSFORMS = ("direction_vector",)  # agents/_wrappers.py
+SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 
 class _Loader(yaml.SafeLoader):
@@ -199,6 +205,9 @@ def _check_algo_kwargs(algo: str, kwargs: dict[str, Any]) -> None:
     unknown = sorted(set(kwargs) - known)
     if unknown:
         raise ValueError(f"hyperparams: {cls.__name__} has no parameter(s) {unknown}")
+    for key in SCHEDULED:
+        if key in kwargs:
+            _schedule_start(key, kwargs[key])
     policy_kwargs = kwargs.get("policy_kwargs") or {}
     if not isinstance(policy_kwargs, dict):
         raise ValueError(f"policy_kwargs must be a mapping, got {policy_kwargs!r}")
@@ -210,14 +219,48 @@ def _check_algo_kwargs(algo: str, kwargs: dict[str, Any]) -> None:
         raise ValueError(f"policy_kwargs.features_extractor_class must be one of {EXTRACTORS}")
 
 
+class LinearSchedule:
+    """``start * progress_remaining``: SB3 passes 1 at the start of training, 0 at the end.
+    A class, not a closure, so that a saved model pickles it by reference."""
+
+    def __init__(self, start: float) -> None:
+        self.start = float(start)
+
+    def __call__(self, progress_remaining: float) -> float:
+        return self.start * progress_remaining
+
+    def __repr__(self) -> str:
+        return f"lin_{self.start:g}"
+
+
+def _schedule_start(key: str, value: Any) -> float | None:
+    """The start of a ``lin_<value>`` schedule, None for a plain number; else an error."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{key} must be > 0, got {value!r}")
+        return None
+    if isinstance(value, str) and value.startswith("lin_"):
+        try:
+            start = float(value[4:])
+        except ValueError:
+            start = math.nan
+        if math.isfinite(start) and start > 0:
+            return start
+    raise ValueError(f"{key} must be a number > 0 or lin_<number > 0>, got {value!r}")
+
+
 def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     """The constructor arguments of a resolved config, with the activation and the
-    features extractor, written by name, as classes."""
+    features extractor, written by name, as classes, and ``lin_`` schedules as callables."""
     import torch.nn as nn
 
     from ._features import EXTRACTORS as classes
 
     kwargs = copy.deepcopy(config["hyperparams"])
+    for key in SCHEDULED:
+        start = _schedule_start(key, kwargs[key]) if key in kwargs else None
+        if start is not None:
+            kwargs[key] = LinearSchedule(start)
     policy_kwargs = kwargs.get("policy_kwargs") or {}
     if isinstance(policy_kwargs.get("activation_fn"), str):
         names = {"tanh": nn.Tanh, "relu": nn.ReLU, "elu": nn.ELU, "leaky_relu": nn.LeakyReLU}

@@ -14,6 +14,17 @@ distance, and the direction as a unit vector and as an angle on the action's sca
 (``atan2(dy, dx) / pi``, 0 for a potted ball), so that "aim at the ball" is a short
 step for the network. Where to aim on the ball (the cut), how hard to hit and which ball
 to play are still learnt.
+
+``pool_pockets``: ``pool_relative`` plus, for every object ball and each of the six
+pockets, the direction from the ball to the pocket as a unit vector and the distance (m).
+To pot ball ``b`` in pocket ``p`` the cue ball is sent at the "ghost ball" point
+``b - 2 r u_bp`` (``u_bp`` the unit vector from the ball to the pocket, ``r`` the ball
+radius), so the aim vector from the cue ball is ``(b - c) - 2 r u_bp``: linear in these
+features once a pocket is chosen, and the ``direction_vector`` action takes its angle
+from such a vector. With ``pool_relative`` alone the network must learn ``u_bp`` from
+the absolute positions, and that approximation is what limited the aim's precision
+(hyperparams/ppo.yml, run M). Which ball, which pocket, how hard (and whether a pocket
+is blocked) are still learnt; the ghost point itself is not given.
 """
 
 from __future__ import annotations
@@ -54,4 +65,34 @@ class PoolRelativeFeatures(BaseFeaturesExtractor):
         return torch.cat([observations, extra.flatten(1)], dim=1)
 
 
-EXTRACTORS: dict[str, Any] = {"pool_relative": PoolRelativeFeatures}
+class PoolPocketFeatures(PoolRelativeFeatures):
+    """``pool_relative``'s features followed by, per object ball and pocket: the unit
+    vector from the ball to the pocket and the distance in metres (0 for a potted ball)."""
+
+    PER_POCKET = 3
+
+    def __init__(self, observation_space: gym.spaces.Box) -> None:
+        from impulse2d.envs.pool import pockets
+
+        super().__init__(observation_space)
+        centres = torch.as_tensor(pockets()[0], dtype=torch.float32)  # (6, 2) m
+        self.register_buffer("pocket_centres", centres, persistent=False)
+        self._features_dim += self.PER_POCKET * len(centres) * self.balls
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        relative = super().forward(observations)
+        balls = observations.reshape(observations.shape[0], -1, 3)[:, 1:]
+        scale = observations.new_tensor([_HALF_LENGTH, _HALF_WIDTH])
+        xy = balls[:, :, :2] * scale  # (n, balls, 2) m
+        on_table = (balls[:, :, 2:3] < 0.5).to(observations.dtype)[..., None]
+        to_pocket = self.pocket_centres.to(observations.dtype) - xy[:, :, None, :]
+        distance = torch.linalg.vector_norm(to_pocket, dim=-1, keepdim=True)
+        unit = to_pocket / distance.clamp_min(1e-6)
+        extra = torch.cat([unit, distance], dim=-1) * on_table  # (n, balls, 6, 3)
+        return torch.cat([relative, extra.flatten(1)], dim=1)
+
+
+EXTRACTORS: dict[str, Any] = {
+    "pool_relative": PoolRelativeFeatures,
+    "pool_pockets": PoolPocketFeatures,
+}

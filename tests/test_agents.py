@@ -230,6 +230,32 @@ def test_bad_training_input_names_the_parameter(
     assert not (tmp_path / "run" / "model.zip").exists()
 
 
+def test_linear_schedule_falls_from_its_start_to_zero(tmp_path: Path) -> None:
+    config = _config.resolve(
+        "ppo", "Pool2D-v0", overrides={"learning_rate": "lin_1e-3", "clip_range": "lin_0.2"}
+    )
+    assert config["hyperparams"]["learning_rate"] == "lin_1e-3"  # plain YAML in config.yml
+    kwargs = _config.algo_kwargs(config)
+    rate, clip = kwargs["learning_rate"], kwargs["clip_range"]
+    assert [rate(p) for p in (1.0, 0.5, 0.0)] == [1e-3, 5e-4, 0.0]
+    assert clip(0.25) == 0.05
+    # In training, SB3 applies it at each update: 64 steps of 4 worlds x n_steps 8 are two
+    # updates, after 32 steps (progress left 0.5) and after 64 (0). progress.csv logs an
+    # update's values in the row written after it: the first update's rate, 5e-4.
+    run = _train(tmp_path / "run", "Pool2D-v0", "ppo", 64, "learning_rate=lin_1e-3")
+    logged = [row["train/learning_rate"] for row in _progress(run)]
+    assert [float(value) for value in logged if value] == [5e-4]
+    assert yaml.safe_load((run / "config.yml").read_text())["hyperparams"]["learning_rate"] == (
+        "lin_1e-3"
+    )
+
+
+@pytest.mark.parametrize("value", ["lin_-1", "lin_x", "exp_1e-3", 0, -0.1, True])
+def test_bad_schedule_names_the_key_and_rule(value: Any) -> None:
+    with pytest.raises(ValueError, match=r"^learning_rate must be"):
+        _config.resolve("ppo", "Pool2D-v0", overrides={"learning_rate": value})
+
+
 def test_resume_refuses_another_algorithm(tmp_path: Path) -> None:
     first = _train(tmp_path / "run", steps=32)
     with pytest.raises(ValueError, match=r"^resume: the model is ppo on Pool2D-v0, not sac"):
@@ -299,6 +325,31 @@ def test_pool_relative_features_are_the_offsets_to_each_ball() -> None:
     ball1 = [dx, dy, dist, dx / dist, dy / dist, np.arctan2(dy, dx) / np.pi]
     assert np.allclose(out[9:15], ball1, atol=1e-6)
     assert np.all(out[15:] == 0.0)  # a potted ball reads as zeros
+
+
+def test_pool_pocket_features_give_each_ball_the_way_to_each_pocket() -> None:
+    import gymnasium as gym
+    import torch
+    from agents._features import PoolPocketFeatures, PoolRelativeFeatures
+
+    from impulse2d.envs.pool import pockets
+
+    space = gym.spaces.Box(-1.0, 1.0, (9,), np.float32)
+    extractor = PoolPocketFeatures(space)
+    obs = torch.tensor([[-0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.0, 1.0]])
+    out = extractor(obs)[0].numpy()
+    relative = PoolRelativeFeatures(space)(obs)[0].numpy()
+    assert out.shape == (21 + 2 * 6 * 3,) == (extractor.features_dim,)
+    assert np.array_equal(out[:21], relative)  # pool_relative's features come first
+    centres = pockets()[0]
+    assert centres.shape == (6, 2)
+    ball1 = np.array([0.635, 0.3175])  # the observation's (0.5, 0.5) on the 2.54 x 1.27 m bed
+    to_pocket = centres - ball1
+    dist = np.linalg.norm(to_pocket, axis=1)
+    per_pocket = out[21:39].reshape(6, 3)
+    assert np.allclose(per_pocket[:, :2], to_pocket / dist[:, None], atol=1e-5)
+    assert np.allclose(per_pocket[:, 2], dist, atol=1e-5)
+    assert np.all(out[39:] == 0.0)  # the potted ball reads as zeros
 
 
 def test_direction_vector_transform_maps_vectors_to_angles() -> None:
