@@ -55,9 +55,12 @@ class SlingshotGame(ShotGame):
         level: str = "random",
         num_birds: int = 3,
         max_shot_seconds: float = 10.0,
+        num_levels: int = 0,
+        start_level: int = 0,
     ) -> None:
         super().__init__(batch_size)
         self.level = _checks.choice("level", level, ("random", "handmade", *_levels.HANDMADE))
+        self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
         if isinstance(num_birds, bool) or not isinstance(num_birds, (int, np.integer)):
             raise ValueError(f"num_birds must be an int in [1, 10], got {num_birds!r}")
         if not 1 <= num_birds <= 10:
@@ -133,6 +136,9 @@ class SlingshotGame(ShotGame):
 
     # -- episodes ----------------------------------------------------------------------------------
     def _pick_level(self, rng: np.random.Generator) -> _levels.Level:
+        if self.level == "random" and self.num_levels:
+            seed = self.start_level + int(rng.integers(self.num_levels))
+            return _levels.random_level(np.random.default_rng(seed), MAX_BLOCKS, MAX_PIGS)
         if self.level == "random":
             return _levels.random_level(rng, MAX_BLOCKS, MAX_PIGS)
         if self.level == "handmade":
@@ -332,6 +338,22 @@ def _draw_sling(canvas: np.ndarray, renderer: Renderer) -> None:
         raster.segment(canvas, x1, y1, x2, y2, width, wood)
 
 
+def _level_seeds(level: str, num_levels: Any, start_level: Any) -> tuple[int, int]:
+    """Checked ``(num_levels, start_level)``: Procgen's two numbers for the set of
+    generated levels, ``start_level ... start_level + num_levels - 1`` (0 levels: no set,
+    each level drawn from the episode's own generator)."""
+    for name, value in (("num_levels", num_levels), ("start_level", start_level)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+            raise ValueError(f"{name} must be an int >= 0, got {value!r}")
+    if (num_levels or start_level) and level != "random":
+        raise ValueError(f"num_levels and start_level need level='random', got level={level!r}")
+    if start_level and not num_levels:
+        raise ValueError(f"start_level needs num_levels > 0, got start_level={start_level}")
+    if num_levels >= 2**63:  # the draw is an int64
+        raise ValueError(f"num_levels must be < 2**63, got {num_levels}")
+    return int(num_levels), int(start_level)
+
+
 class Slingshot2DEnv(ShotEnv):
     """Angry-Birds-style destruction seen from the side: one step is one bird, played until
     everything has settled.
@@ -391,6 +413,13 @@ class Slingshot2DEnv(ShotEnv):
     by name: `"table"`, `"tower"`, `"fortress"`, `"wall"`, `"twin-towers"`. Everything
     starts at rest.
 
+    Generated levels as in Procgen: with `num_levels=n > 0`, each episode draws a level
+    seed `k` from `start_level ... start_level + n - 1` and plays the level that a
+    generator seeded `k` gives, so the set of levels is fixed and two disjoint ranges
+    never share a level: train on `start_level=0, num_levels=10_000`, test on
+    `start_level=1_000_000` to score levels never seen in training. `num_levels=0` (the
+    default): no fixed set, the level comes from the episode's own generator.
+
     ## Episode End
     Terminated when every pig is destroyed or the birds run out. Truncated after 10
     steps (`max_episode_steps`; a launch itself is stopped after `max_shot_seconds` of
@@ -402,12 +431,15 @@ class Slingshot2DEnv(ShotEnv):
     ## Arguments
     ```python
     gym.make("Slingshot2D-v0", level="random", num_birds=3, max_shot_seconds=10.0,
-             render_mode=None)
+             num_levels=0, start_level=0, render_mode=None)
     gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
                  threads=None)
     ```
     * `level`: `"random"`, `"handmade"` or a hand-made level's name (see Starting State).
     * `num_birds` (1-10): birds per level.
+    * `num_levels`, `start_level` (ints >= 0, with `level="random"`): the generated levels
+      to draw from, seeds `start_level` to `start_level + num_levels - 1` (see Starting
+      State); 0 levels: any.
     * `max_shot_seconds`: simulated time after which a launch is stopped where it stands.
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
@@ -420,7 +452,8 @@ class Slingshot2DEnv(ShotEnv):
     position, bitwise (see `ShotEnv`); the vector env restores chosen `worlds=[...]`.
 
     ## Version History
-    * v0: first version.
+    * v0: first version (`num_levels` and `start_level` added later; their defaults play
+      the levels v0 always played).
     """
 
     game_class = SlingshotGame

@@ -326,3 +326,63 @@ def test_observation_zeroes_destroyed_slots_and_counts_birds():
 
     game.shoot(WORLD, UP_SLOWEST)
     assert game.observe()[0, -1] == pytest.approx(1 / 3)
+
+
+# -- generated level sets (Procgen's num_levels, start_level) -----------------------------------
+def _levels_played(episodes: int, **options) -> list[tuple]:
+    """The (blocks, pigs) of the first level of worlds seeded 0, 1, ..., and of the next
+    episodes of world 0: every level a game with these options dealt."""
+    game = SlingshotGame(1, level="random", **options)
+    dealt = []
+    picked = game._pick_level
+    game._pick_level = lambda rng: dealt.append(picked(rng)) or dealt[-1]
+    for seed in range(episodes):
+        game.seed([0], [seed])
+        game.reset([0])
+    for _ in range(episodes):
+        game.reset([0])
+    return [(tuple(level.blocks), tuple(level.pigs)) for level in dealt]
+
+
+def test_num_levels_deals_the_levels_of_its_seed_range_only():
+    allowed = {
+        (tuple(level.blocks), tuple(level.pigs))
+        for level in (
+            _levels.random_level(np.random.default_rng(k), 20, MAX_PIGS) for k in range(50, 53)
+        )
+    }
+    played = _levels_played(30, num_levels=3, start_level=50)
+    assert set(played) == allowed  # 60 episodes, each one of the 3 levels, all 3 dealt
+    held_out = set(_levels_played(30, num_levels=1000, start_level=10_000))
+    assert len(held_out) > 40 and not held_out & allowed  # disjoint ranges share no level
+
+
+def test_default_levels_come_from_the_episode_generator():
+    """num_levels=0 deals what random_level makes from the episode's own generator: the
+    levels of every earlier version, not a level-seed draw."""
+    played = _levels_played(5)
+    expected = []
+    for seed in range(5):
+        game = SlingshotGame(1, level="random")
+        game.seed([0], [seed])
+        expected.append(_levels.random_level(game.rngs[0], 20, MAX_PIGS))
+    first = [(tuple(level.blocks), tuple(level.pigs)) for level in expected]
+    assert played[:5] == first
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"num_levels": -1}, "num_levels must be an int >= 0, got -1"),
+        ({"num_levels": 2.0}, "num_levels must be an int >= 0, got 2.0"),
+        ({"num_levels": True}, "num_levels must be an int >= 0, got True"),
+        ({"num_levels": 2**63}, "num_levels must be < 2\\*\\*63"),
+        ({"num_levels": 5, "start_level": -3}, "start_level must be an int >= 0, got -3"),
+        ({"start_level": 7}, "start_level needs num_levels > 0"),
+        ({"level": "handmade", "num_levels": 5}, "need level='random', got level='handmade'"),
+    ],
+)
+def test_level_sets_refuse_bad_values_by_name(options, message):
+    options = {"level": "random", **options}
+    with pytest.raises(ValueError, match=message):
+        SlingshotGame(1, **options)
