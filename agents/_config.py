@@ -1,14 +1,16 @@
 """Hyperparameter files and the resolved configuration of a run.
 
 A hyperparameter file (``agents/hyperparams/<algo>.yml``) maps env ids to settings, RL Zoo
-style. Four keys belong to this package; every other key is passed to the algorithm's
-constructor (so a misspelt one is caught by checking it against the constructor's
-signature, here, rather than deep inside Stable-Baselines3)::
+style; an env can have more entries, named ``<env id>/<variant>`` (``Pool2D-v0/full``).
+The run keys (``RUN_KEYS``) belong to this package; every other key is passed to the
+algorithm's constructor (so a misspelt one is caught by checking it against the
+constructor's signature, here, rather than deep inside Stable-Baselines3)::
 
     Pool2D-v0:
       n_timesteps: 1.5e5        # training budget (env steps = shots)
       n_envs: 512               # worlds in the batched vector env
       env_kwargs: {num_balls: 1, max_episode_steps: 5}
+      eval_env_kwargs: {}       # over env_kwargs, for evaluation only (held-out levels)
       normalize: false          # VecNormalize: false, true, or {norm_obs: .., norm_reward: ..}
       policy: MlpPolicy
       policy_kwargs: {net_arch: [128, 128], activation_fn: tanh}
@@ -42,10 +44,18 @@ HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
 ALGOS = ("ppo", "sac")
 ENV_IDS = _envs.IDS
 # Keys of a hyperparameter entry that configure the run, not the algorithm.
-RUN_KEYS = ("n_timesteps", "n_envs", "env_kwargs", "normalize", "policy", "action_transform")
+RUN_KEYS = (
+    "n_timesteps",
+    "n_envs",
+    "env_kwargs",
+    "eval_env_kwargs",
+    "normalize",
+    "policy",
+    "action_transform",
+)
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
-EXTRACTORS = ("pool_relative", "pool_pockets")  # agents/_features.py
-TRANSFORMS = ("direction_vector",)  # agents/_wrappers.py
+EXTRACTORS = ("pool_relative", "pool_pockets", "pool_cuts", "pool_target")  # agents/_features.py
+TRANSFORMS = ("direction_vector", "ball_contact", "pocket_choice")  # agents/_wrappers.py
 SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 
@@ -81,9 +91,20 @@ def check_algo(algo: Any) -> str:
 
 
 def check_env_id(env_id: Any) -> str:
-    if env_id not in ENV_IDS:
-        raise ValueError(f"env must be one of {list(ENV_IDS)}, got {env_id!r}")
+    """An env id, or ``<env id>/<variant>``: another entry of the hyperparameter file for
+    that env (``Pool2D-v0/full``: the 15-ball game), trained on the same env."""
+    base, sep, variant = env_id.partition("/") if isinstance(env_id, str) else (env_id, "", "")
+    if base not in ENV_IDS or (sep and not re.fullmatch(r"[A-Za-z0-9_.-]+", variant)):
+        raise ValueError(
+            f"env must be one of {list(ENV_IDS)}, or one of them followed by /<variant> "
+            f"(a YAML entry such as Pool2D-v0/full), got {env_id!r}"
+        )
     return env_id
+
+
+def env_of(entry: str) -> str:
+    """The env id of a hyperparameter entry's name (``Pool2D-v0/full`` -> ``Pool2D-v0``)."""
+    return entry.partition("/")[0]
 
 
 def positive_count(name: str, value: Any) -> int:
@@ -155,8 +176,11 @@ def resolve(
 ) -> dict[str, Any]:
     """The full configuration of a run: the file's entry (or, with ``base``, a resolved
     config such as a resumed run's) with the command line's values on top, checked.
-    Returns ``{"env_id", "algo", "seed", "n_timesteps", "n_envs", "env_kwargs",
-    "normalize", "policy", "action_transform", "hyperparams"}`` (plain YAML-able values)."""
+    ``env_id`` names the entry: an env id, or ``<env id>/<variant>``. Returns
+    ``{"env_id", "entry", "algo", "seed", "n_timesteps", "n_envs", "env_kwargs",
+    "eval_env_kwargs", "normalize", "policy", "action_transform", "hyperparams"}``
+    (plain YAML-able values; ``env_id`` is the env itself, ``entry`` the entry's name)."""
+    check_env_id(env_id)
     if base is not None:
         entry = {key: copy.deepcopy(base[key]) for key in RUN_KEYS if key in base}
         entry.update(copy.deepcopy(base.get("hyperparams", {})))
@@ -165,7 +189,8 @@ def resolve(
     entry.update(overrides or {})
     if seed is None or isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ValueError(f"seed must be an int >= 0, got {seed!r}")
-    config: dict[str, Any] = {"env_id": env_id, "algo": algo, "seed": seed}
+    config: dict[str, Any] = {"env_id": env_of(env_id), "entry": env_id, "algo": algo}
+    config["seed"] = seed
     steps = timesteps if timesteps is not None else entry.pop("n_timesteps", None)
     entry.pop("n_timesteps", None)
     if steps is None:
@@ -178,6 +203,11 @@ def resolve(
     if not isinstance(kwargs, dict):
         raise ValueError(f"env_kwargs must be a mapping, got {kwargs!r}")
     config["env_kwargs"] = {**kwargs, **(env_kwargs or {})}
+    # What evaluation plays, over env_kwargs: held-out generated levels, say.
+    evaluation = entry.pop("eval_env_kwargs", None) or {}
+    if not isinstance(evaluation, dict):
+        raise ValueError(f"eval_env_kwargs must be a mapping, got {evaluation!r}")
+    config["eval_env_kwargs"] = evaluation
     config["normalize"] = _check_normalize(entry.pop("normalize", False))
     config["policy"] = entry.pop("policy", "MlpPolicy")
     transform = entry.pop("action_transform", None)

@@ -25,6 +25,28 @@ from such a vector. With ``pool_relative`` alone the network must learn ``u_bp``
 the absolute positions, and that approximation is what limited the aim's precision
 (hyperparams/ppo.yml, run M). Which ball, which pocket, how hard (and whether a pocket
 is blocked) are still learnt; the ghost point itself is not given.
+
+``pool_cuts``: ``pool_pockets`` plus, for every object ball and pocket, the sine and
+cosine of the cut that pots the ball there: the angle between the cue ball's path to the
+ghost point ``g = b - 2 r u_bp`` and the object ball's path ``u_bp`` to the pocket. The
+line from the cue ball to ``g`` passes the ball's centre at the signed distance
+
+    (b - c) x u = (|g - c| u + 2 r u_bp) x u = 2 r (u_bp x u),    u = (g - c) / |g - c|,
+
+so ``sin(cut) = u_bp x u`` (left of the ball positive) is exactly the ``tanh(b)`` of the
+``ball_contact`` action that plays the ghost-ball shot into that pocket, and ``cos(cut)``
+(``u . u_bp``) says how thin, hence how hard to make, that shot is. With them, aiming at
+a chosen pocket is linear in the input (up to the ``atanh`` of the action's squashing);
+which pocket, and how hard, is what is left to learn. This is the geometry a player reads
+off the table; whether the paths are clear is not given.
+
+``pool_target``: the observation plus the shots the ``pocket_choice`` action can play:
+at the target ball (the nearest object ball on the table), whether there is one, its
+offset and distance from the cue ball, and per pocket the sine and cosine of the cut,
+the object ball's run to the pocket and the cue ball's to the ghost point (m), and how
+clear both paths are (the nearest other ball's distance from each, in ball diameters,
+capped at 3: below 1 a ball on that path hits it). The numbers come from
+``_pool_geometry``, as the action's do.
 """
 
 from __future__ import annotations
@@ -92,7 +114,66 @@ class PoolPocketFeatures(PoolRelativeFeatures):
         return torch.cat([relative, extra.flatten(1)], dim=1)
 
 
+class PoolCutFeatures(PoolPocketFeatures):
+    """``pool_pockets``'s features followed by, per object ball and pocket: the sine
+    (signed, left positive) and cosine of the cut that pots the ball in that pocket
+    (0 for a potted ball)."""
+
+    PER_CUT = 2
+
+    def __init__(self, observation_space: gym.spaces.Box) -> None:
+        from impulse2d.envs.pool import BALL_RADIUS
+
+        super().__init__(observation_space)
+        self.ball_radius = BALL_RADIUS
+        self._features_dim += self.PER_CUT * len(self.pocket_centres) * self.balls
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        pockets = super().forward(observations)
+        balls = observations.reshape(observations.shape[0], -1, 3)
+        scale = observations.new_tensor([_HALF_LENGTH, _HALF_WIDTH])
+        xy = balls[:, :, :2] * scale
+        cue, objects = xy[:, :1, None, :], xy[:, 1:, None, :]  # (n, 1, 1, 2), (n, k, 1, 2)
+        to_pocket = self.pocket_centres.to(observations.dtype) - objects  # (n, k, 6, 2)
+        u_bp = to_pocket / torch.linalg.vector_norm(to_pocket, dim=-1, keepdim=True).clamp_min(1e-6)
+        aim = objects - 2 * self.ball_radius * u_bp - cue  # cue ball to the ghost point
+        u = aim / torch.linalg.vector_norm(aim, dim=-1, keepdim=True).clamp_min(1e-6)
+        sine = u_bp[..., 0] * u[..., 1] - u_bp[..., 1] * u[..., 0]
+        cosine = (u_bp * u).sum(dim=-1)
+        on_table = (balls[:, 1:, 2:3] < 0.5).to(observations.dtype)  # (n, k, 1)
+        extra = torch.stack([sine, cosine], dim=-1) * on_table[..., None]  # (n, k, 6, 2)
+        return torch.cat([pockets, extra.flatten(1)], dim=1)
+
+
+class PoolTargetFeatures(BaseFeaturesExtractor):
+    """The Pool2D observation followed by: has a target, its dx, dy and distance from the
+    cue ball (m), then per pocket: sin and cos of the cut, run and reach (m), clearance of
+    the cue ball's and the object ball's paths (ball diameters); zeros with no target."""
+
+    PER_POCKET = 6
+
+    def __init__(self, observation_space: gym.spaces.Box) -> None:
+        size = int(observation_space.shape[0])
+        if size % 3 or size < 6:
+            raise ValueError(f"pool_target needs a Pool2D observation, got size {size}")
+        super().__init__(observation_space, size + 4 + 6 * self.PER_POCKET)
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        from ._pool_geometry import target_shots
+
+        shot = target_shots(observations)
+        offset = shot["ball"] - shot["cue"]
+        distance = torch.linalg.vector_norm(offset, dim=1, keepdim=True)
+        keys = ("sin", "cos", "run", "reach", "clear_cue", "clear_ball")
+        per_pocket = torch.stack([shot[key] for key in keys], dim=-1).flatten(1)
+        has = shot["has_target"].to(observations.dtype)[:, None]
+        extra = torch.cat([has, offset, distance, per_pocket], dim=1) * has
+        return torch.cat([observations, extra.to(observations.dtype)], dim=1)
+
+
 EXTRACTORS: dict[str, Any] = {
     "pool_relative": PoolRelativeFeatures,
     "pool_pockets": PoolPocketFeatures,
+    "pool_cuts": PoolCutFeatures,
+    "pool_target": PoolTargetFeatures,
 }

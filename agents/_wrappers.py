@@ -16,6 +16,47 @@ policy's output, so the agent is always scored on the env's own actions.
   actions clipped to [-1, 1] its mean sinks below -1, where every sample is the same
   gentlest stroke and the gradient that would raise the speed again, once the aim is
   good, is gone. ``tanh`` keeps a slope there.
+
+``ball_contact`` (Pool2D): the policy gives ``(b, s)`` and the cue ball is sent at the
+nearest object ball still on the table, passing its centre at the signed distance
+``2 r tanh(b)`` (``r`` the ball radius): ``b = 0`` is a full-ball hit, ``tanh(b) = +-1``
+the thinnest cut to the left or right. With ``theta`` the direction and ``d`` the distance
+from the cue ball to that ball, the env's angle is
+
+    phi = theta + asin(clip(2 r tanh(b) / d, -1, 1)),
+
+since a line at angle ``phi`` from the cue ball passes the ball's centre at
+``d sin(phi - theta)``. This is the egocentric action a player thinks in ("how thin, how
+hard"), and it fixes what limited ``direction_vector`` (hyperparams/ppo.yml, runs M, N):
+there the ghost-ball aim differs from "at the ball" by ``asin(2 r sin(cut) / d)``, a few
+degrees, which must come out of an absolute direction learnt to that precision; here the
+ghost-ball shot is ``tanh(b) = sin(cut)`` (the cut angle between the cue ball's line and
+the object ball's line to the pocket), a number of order one. Every sample touches the
+ball, so "hit softly" is not the first lesson. What it gives up: only the nearest ball can
+be played (enough for one object ball; the full game is the harder for it), and no shot
+misses on purpose. The policy still chooses the pocket, the cut and the speed.
+
+``pocket_choice`` (Pool2D): the player calls the pocket. The policy gives eight numbers:
+six pocket preferences, a cut correction ``c`` and a speed ``s``. The target is, as for
+``ball_contact``, the nearest object ball on the table; the pocket is the one with the
+highest preference, and the cue ball passes the target's centre at
+
+    2 r clip(sin(cut_p) + 0.25 tanh(c), -1, 1),
+
+``sin(cut_p)`` being the ghost-ball cut into that pocket (``_pool_geometry``): ``c = 0``
+plays the ghost-ball line, and ``c`` trims it (by up to 14 mm at the contact point) for
+throw and the pocket's jaws. This is a parameterized action (Hausknecht and Stone,
+"Deep reinforcement learning in parameterized action space", 2016: a choice made by the
+argmax of continuous preferences, each with its own parameters), which a Gaussian
+policy explores as it explores any number. What ``ball_contact`` left to the network
+and it learnt poorly (hyperparams/ppo.yml, runs N, O, P) is the exact ``sin(cut)`` of
+whichever pocket it meant, a function with a jump wherever the best pocket changes: a
+128 x 128 MLP regressing the ghost-ball player's contact point from ``pool_cuts``
+features, in plain supervised learning on 22,000 tables, still missed by 0.06 (median;
+0.26 at the 90th percentile) where a pot needs about 0.03. Here the jump is the argmax's,
+and the network's outputs are smooth preferences. Which pocket, the trim and the speed
+(the ghost-ball player's fixed rule scratches on 6 % of its shots) are learnt. The
+``pool_target`` features describe the same shots.
 """
 
 from __future__ import annotations
@@ -27,36 +68,99 @@ import gymnasium as gym
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv, VecEnvWrapper
 
+from impulse2d.envs.pool import BALL_RADIUS, TABLE_LENGTH, TABLE_WIDTH
 
-def direction_vector(actions: np.ndarray) -> np.ndarray:
-    """``(n, 3)`` policy outputs ``(u, v, s)`` -> ``(n, 2)`` env actions."""
+
+def direction_vector(actions: np.ndarray, obs: np.ndarray | None = None) -> np.ndarray:
+    """``(n, 3)`` policy outputs ``(u, v, s)`` -> ``(n, 2)`` env actions (``obs`` unused)."""
     actions = np.asarray(actions, np.float64)
     angle = np.arctan2(actions[:, 1], actions[:, 0]) / np.pi
     return np.stack([angle, np.tanh(actions[:, 2])], axis=1).astype(np.float32)
 
 
+_HALF_LENGTH, _HALF_WIDTH = TABLE_LENGTH / 2, TABLE_WIDTH / 2
+
+
+def ball_contact(actions: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """``(n, 2)`` policy outputs ``(b, s)`` and ``(n, 3k)`` Pool2D observations -> ``(n, 2)``
+    env actions: aim past the nearest object ball on the table at ``2 r tanh(b)`` from its
+    centre (see the module docstring). With no object ball left, the angle is 0."""
+    actions = np.asarray(actions, np.float64)
+    balls = np.asarray(obs, np.float64).reshape(len(actions), -1, 3)
+    xy = balls[:, :, :2] * (_HALF_LENGTH, _HALF_WIDTH)
+    offset = xy[:, 1:] - xy[:, :1]  # object balls relative to the cue ball (m)
+    distance = np.hypot(offset[..., 0], offset[..., 1])
+    distance = np.where(balls[:, 1:, 2] > 0.5, np.inf, distance)  # potted balls are out
+    target = np.argmin(distance, axis=1)
+    rows = np.arange(len(actions))
+    dx, dy, d = offset[rows, target, 0], offset[rows, target, 1], distance[rows, target]
+    reach = np.isfinite(d) & (d > 0.0)
+    sine = np.where(reach, 2 * BALL_RADIUS * np.tanh(actions[:, 0]) / np.where(reach, d, 1.0), 0)
+    angle = np.where(reach, np.arctan2(dy, dx) + np.arcsin(np.clip(sine, -1.0, 1.0)), 0.0)
+    angle = (angle + np.pi) % (2 * np.pi) - np.pi  # back to [-pi, pi): the env's scale
+    return np.stack([angle / np.pi, np.tanh(actions[:, 1])], axis=1).astype(np.float32)
+
+
+CUT_CORRECTION = 0.25  # most the correction moves sin(cut): 0.25 * 2r = 14 mm at contact
+
+
+def pocket_choice(actions: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """``(n, 8)`` policy outputs (six pocket preferences, cut correction, speed) and
+    ``(n, 3k)`` Pool2D observations -> ``(n, 2)`` env actions: the ghost-ball shot at the
+    nearest object ball into the preferred pocket, trimmed (see the module docstring).
+    With no object ball left, the angle is 0."""
+    import torch
+
+    from ._pool_geometry import target_shots
+
+    a = torch.as_tensor(np.asarray(actions, np.float64))
+    shot = target_shots(torch.as_tensor(np.asarray(obs, np.float64)))
+    rows = torch.arange(a.shape[0])
+    pocket = torch.argmax(a[:, :6], dim=1)
+    sine = (shot["sin"][rows, pocket] + CUT_CORRECTION * torch.tanh(a[:, 6])).clamp(-1, 1)
+    offset = shot["ball"] - shot["cue"]
+    distance = torch.linalg.vector_norm(offset, dim=1).clamp_min(1e-9)
+    turn = torch.asin((2 * BALL_RADIUS * sine / distance).clamp(-1, 1))
+    angle = torch.atan2(offset[:, 1], offset[:, 0]) + turn
+    angle = torch.where(shot["has_target"], angle, 0.0)
+    angle = (angle + torch.pi) % (2 * torch.pi) - torch.pi  # back to [-pi, pi)
+    out = torch.stack([angle / torch.pi, torch.tanh(a[:, 7])], dim=1)
+    return out.numpy().astype(np.float32)
+
+
 BOUND = 5.0
-TRANSFORMS: dict[str, tuple[int, Callable[[np.ndarray], np.ndarray]]] = {
-    # name: (policy action size, policy actions -> env actions)
+Transform = Callable[[np.ndarray, np.ndarray], np.ndarray]
+TRANSFORMS: dict[str, tuple[int, Transform]] = {
+    # name: (policy action size, (policy actions, observations) -> env actions)
     "direction_vector": (3, direction_vector),
+    "ball_contact": (2, ball_contact),
+    "pocket_choice": (8, pocket_choice),
 }
 
 
 class TransformAction(VecEnvWrapper):
     """A VecEnv whose actions are mapped by a named transform before the env sees them.
     Its action space is [-5, 5]: SB3 needs finite bounds and clips to them, and the
-    transform's ``tanh`` is flat beyond (tanh 5 = 0.9999), so the clip changes nothing."""
+    transform's ``tanh`` is flat beyond (tanh 5 = 0.9999), so the clip changes nothing.
+    It keeps the latest observation, which is what the policy acted on (SB3's VecEnv
+    returns the next episode's first observation where one ended)."""
 
     def __init__(self, venv: VecEnv, name: str) -> None:
         size, self.transform = TRANSFORMS[name]
         space = gym.spaces.Box(-BOUND, BOUND, (size,), np.float32)
         super().__init__(venv, action_space=space)
+        self.last_obs: np.ndarray | None = None
 
     def step_async(self, actions: np.ndarray) -> None:
-        self.venv.step_async(self.transform(actions))
+        if self.last_obs is None:
+            raise RuntimeError("TransformAction: reset() before step()")
+        self.venv.step_async(self.transform(actions, self.last_obs))
 
     def step_wait(self) -> Any:
-        return self.venv.step_wait()
+        obs, rewards, dones, infos = self.venv.step_wait()
+        self.last_obs = obs
+        return obs, rewards, dones, infos
 
     def reset(self) -> Any:
-        return self.venv.reset()
+        self.last_obs = self.venv.reset()
+        return self.last_obs

@@ -286,7 +286,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Train and evaluate over seeds x hyperparameter values as Ray Tune trials "
         "(locally, or on a cluster with --address); one table and one plot over the trials.",
     )
-    parser.add_argument("--env", default="Pool2D-v0", help="env id (default Pool2D-v0)")
+    parser.add_argument(
+        "--env", default="Pool2D-v0", help="env id, or id/variant (default Pool2D-v0)"
+    )
     parser.add_argument("--algo", default="ppo", help="ppo or sac (default ppo)")
     parser.add_argument("--seeds", default="0-2", help="training seeds, e.g. 0-7 or 0,3,5")
     parser.add_argument(
@@ -324,7 +326,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
         "cpus_per_trial": _config.positive_count("cpus_per_trial", args.cpus_per_trial),
         "portable_kernels": args.portable_kernels,
     }
-    out = args.out or Path("runs") / "sweeps" / f"{env_id}_{algo}"
+    out = args.out or Path("runs") / "sweeps" / f"{env_id.replace('/', '-')}_{algo}"
     return sweep(spec, parse_seeds(args.seeds), parse_search(args.search), out, args.address)
 
 

@@ -37,8 +37,9 @@ from ._kernels import add_kernels_option, pin_torch_kernels, torch_thread_callba
 DEFAULT_RUNS = Path("runs")
 
 
-def default_run_dir(env_id: str, algo: str, seed: int) -> Path:
-    return DEFAULT_RUNS / f"{env_id}_{algo}_seed{seed}"
+def default_run_dir(entry: str, algo: str, seed: int) -> Path:
+    """``runs/<env>_<algo>_seed<k>``; an entry ``Pool2D-v0/full`` gives ``Pool2D-v0-full``."""
+    return DEFAULT_RUNS / f"{entry.replace('/', '-')}_{algo}_seed{seed}"
 
 
 def make_vec_env(config: dict[str, Any], seed: int, monitor: Path | None = None) -> Any:
@@ -270,7 +271,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Train PPO or SAC on Pool2D-v0 / Slingshot2D-v0 (hyperparameters from "
         "agents/hyperparams/<algo>.yml), then evaluate the agent.",
     )
-    parser.add_argument("--env", default=None, help="env id (default Pool2D-v0)")
+    parser.add_argument(
+        "--env", default=None, help="env id, or id/variant: a YAML entry (default Pool2D-v0)"
+    )
     parser.add_argument("--algo", default=None, help="ppo or sac (default ppo)")
     parser.add_argument("--timesteps", default=None, help="env steps, e.g. 2e5 (default: YAML)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -316,11 +319,12 @@ def main(argv: list[str] | None = None) -> Path:
         # arguments), not the YAML's, which may have changed since.
         saved = _check_resume(args.resume).parent / "config.yml"
         base = _config.load_config(saved.parent) if saved.is_file() else None
-    env_id = _config.check_env_id(args.env or (base or {}).get("env_id", "Pool2D-v0"))
+    saved_entry = (base or {}).get("entry", (base or {}).get("env_id", "Pool2D-v0"))
+    env_id = _config.check_env_id(args.env or saved_entry)
     algo = _config.check_algo(args.algo or (base or {}).get("algo", "ppo"))
-    if base is not None and (base["env_id"], base["algo"]) != (env_id, algo):
+    if base is not None and (saved_entry, base["algo"]) != (env_id, algo):
         raise ValueError(
-            f"resume: the model is {base['algo']} on {base['env_id']}, not {algo} on {env_id}"
+            f"resume: the model is {base['algo']} on {saved_entry}, not {algo} on {env_id}"
         )
     config = _config.resolve(
         algo,

@@ -136,7 +136,9 @@ def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]
         assert set(row) == set(on_disk["metrics"])
         assert all(set(cell) == {"mean", "std"} for cell in row.values())
     assert on_disk["episodes"] == 6 and on_disk["episode_seeds"] == [1000, 1005]
-    assert set(on_disk["targets"]) == {"beats_random_2x", "half_of_scripted"}
+    assert set(on_disk["targets"]) == {
+        "beats_random_2x", "half_of_scripted", "pots_half_of_scripted", "matches_scripted",
+    }  # fmt: skip
     # The scripted player pots nearly every ball; the table must show it.
     scripted, random = on_disk["policies"]["scripted"], on_disk["policies"]["random"]
     assert scripted["potted"]["mean"] > random["potted"]["mean"]
@@ -308,54 +310,89 @@ def _escape(text: str) -> str:
     return re.escape(text)
 
 
-def test_pool_relative_features_are_the_offsets_to_each_ball() -> None:
-    import gymnasium as gym
-    import torch
-    from agents._features import PoolRelativeFeatures
-
-    space = gym.spaces.Box(-1.0, 1.0, (9,), np.float32)  # cue ball and two object balls
-    extractor = PoolRelativeFeatures(space)
-    # Cue at (-0.635, 0) m; ball 1 at (0.635, 0.3175) m; ball 2 potted.
-    obs = torch.tensor([[-0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.0, 1.0]])
-    out = extractor(obs)[0].numpy()
-    assert out.shape == (9 + 12,) == (extractor.features_dim,)
-    assert np.allclose(out[:9], obs[0].numpy())  # the observation itself comes first
-    dx, dy = 1.27, 0.3175
-    dist = np.hypot(dx, dy)
-    ball1 = [dx, dy, dist, dx / dist, dy / dist, np.arctan2(dy, dx) / np.pi]
-    assert np.allclose(out[9:15], ball1, atol=1e-6)
-    assert np.all(out[15:] == 0.0)  # a potted ball reads as zeros
+VARIANT_YAML = """
+Slingshot2D-v0/generated:
+  n_timesteps: 32
+  n_envs: 4
+  env_kwargs: {level: random, num_levels: 10}
+  eval_env_kwargs: {start_level: 1000}
+  policy: MlpPolicy
+  n_steps: 8
+  batch_size: 32
+"""
 
 
-def test_pool_pocket_features_give_each_ball_the_way_to_each_pocket() -> None:
-    import gymnasium as gym
-    import torch
-    from agents._features import PoolPocketFeatures, PoolRelativeFeatures
-
-    from impulse2d.envs.pool import pockets
-
-    space = gym.spaces.Box(-1.0, 1.0, (9,), np.float32)
-    extractor = PoolPocketFeatures(space)
-    obs = torch.tensor([[-0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.0, 1.0]])
-    out = extractor(obs)[0].numpy()
-    relative = PoolRelativeFeatures(space)(obs)[0].numpy()
-    assert out.shape == (21 + 2 * 6 * 3,) == (extractor.features_dim,)
-    assert np.array_equal(out[:21], relative)  # pool_relative's features come first
-    centres = pockets()[0]
-    assert centres.shape == (6, 2)
-    ball1 = np.array([0.635, 0.3175])  # the observation's (0.5, 0.5) on the 2.54 x 1.27 m bed
-    to_pocket = centres - ball1
-    dist = np.linalg.norm(to_pocket, axis=1)
-    per_pocket = out[21:39].reshape(6, 3)
-    assert np.allclose(per_pocket[:, :2], to_pocket / dist[:, None], atol=1e-5)
-    assert np.allclose(per_pocket[:, 2], dist, atol=1e-5)
-    assert np.all(out[39:] == 0.0)  # the potted ball reads as zeros
+def test_variant_entries_name_their_env_and_run_directory(tmp_path: Path) -> None:
+    path = tmp_path / "ppo.yml"
+    path.write_text(VARIANT_YAML)
+    config = _config.resolve("ppo", "Slingshot2D-v0/generated", config_file=path)
+    assert config["env_id"] == "Slingshot2D-v0" and config["entry"] == "Slingshot2D-v0/generated"
+    assert config["env_kwargs"] == {"level": "random", "num_levels": 10}
+    assert config["eval_env_kwargs"] == {"start_level": 1000}
+    assert train.default_run_dir(config["entry"], "ppo", 3) == Path(
+        "runs/Slingshot2D-v0-generated_ppo_seed3"
+    )
+    for bad in ("Pong-v0/generated", "Slingshot2D-v0/", "Slingshot2D-v0/a b", 7):
+        with pytest.raises(ValueError, match=r"^env must be one of .* followed by /<variant>"):
+            _config.resolve("ppo", bad, config_file=path)
+    with pytest.raises(ValueError, match=r"has no entry for .Slingshot2D-v0/other."):
+        _config.resolve("ppo", "Slingshot2D-v0/other", config_file=path)
+    with pytest.raises(ValueError, match=r"^eval_env_kwargs must be a mapping"):
+        _config.resolve(
+            "ppo", "Slingshot2D-v0/generated", config_file=path,
+            overrides={"eval_env_kwargs": [1]},
+        )  # fmt: skip
 
 
-def test_direction_vector_transform_maps_vectors_to_angles() -> None:
-    from agents._wrappers import direction_vector
+def test_evaluation_plays_the_eval_env_kwargs_over_the_training_ones(tmp_path: Path) -> None:
+    from agents._tasks import play_episodes, summarize, task
 
-    out = direction_vector(np.array([[1.0, 0.0, 0.0], [0.0, 2.0, 5.0], [-1.0, -1e-9, -5.0]]))
-    assert out.dtype == np.float32 and out.shape == (3, 2)
-    assert np.allclose(out[:, 0], [0.0, 0.5, -1.0], atol=1e-6)  # +x, +y, just under -x
-    assert np.allclose(out[:, 1], np.tanh([0.0, 5.0, -5.0]))
+    from impulse2d.envs.baselines import slingshot_ballistic
+
+    path = tmp_path / "ppo.yml"
+    path.write_text(VARIANT_YAML)
+    run_dir = _train(tmp_path / "run", "Slingshot2D-v0/generated", "ppo", 32, "--config", str(path))
+    assert yaml.safe_load((run_dir / "config.yml").read_text())["entry"] == (
+        "Slingshot2D-v0/generated"
+    )
+    results = evaluate.evaluate(
+        run_dir, episodes=3, seed=5, video=None, env_kwargs={"num_birds": 1}
+    )
+    trained_on = {"level": "random", "num_levels": 10, **json.loads(SHORT)}
+    played = {**trained_on, "start_level": 1000, "num_birds": 1}
+    assert results["env_kwargs"] == played
+    assert results["train_env_kwargs"] == trained_on
+    assert results["entry"] == "Slingshot2D-v0/generated"
+    # The scripted row is that of the held-out levels with one bird, not the training ones.
+    direct = summarize(task("Slingshot2D-v0"), play_episodes(
+        "Slingshot2D-v0", played, slingshot_ballistic, 3, 5
+    ))  # fmt: skip
+    assert results["policies"]["scripted"] == direct
+    assert results["policies"]["scripted"]["birds_used"]["mean"] == 1.0
+
+
+def test_targets_compare_the_trained_agent_with_the_named_player() -> None:
+    from agents._tasks import task
+
+    def rows(**means: tuple[float, float, float]) -> dict[str, Any]:
+        keys = ("reward", "potted", "potted_per_shot")
+        return {p: {k: {"mean": v, "std": 0.0} for k, v in zip(keys, m, strict=True)}
+                for p, m in means.items()}  # fmt: skip
+
+    # reward, potted / episode, potted / shot
+    got = evaluate._targets(task("Pool2D-v0"), rows(
+        trained=(0.95, 0.9, 0.05), random=(-1.8, 0.1, 0.03), scripted=(0.93, 1.0, 0.8)
+    ))  # fmt: skip
+    assert {name: t["met"] for name, t in got.items()} == {
+        "beats_random_2x": False,  # 0.05 pots a shot < 2 x 0.03
+        "half_of_scripted": True,
+        "pots_half_of_scripted": True,
+        "matches_scripted": True,  # 0.95 >= 0.93
+    }
+    assert got["beats_random_2x"]["needed"] == pytest.approx(0.06)
+    assert got["matches_scripted"]["needed"] == pytest.approx(0.93)
+    got = evaluate._targets(task("Pool2D-v0"), rows(
+        trained=(0.4, 0.3, 0.0), random=(-1.8, 0.1, 0.0), scripted=(0.93, 1.0, 0.8)
+    ))  # fmt: skip
+    assert not got["beats_random_2x"]["met"]  # 0 >= 2 x 0, but twice nothing is no bar
+    assert not got["pots_half_of_scripted"]["met"] and not got["matches_scripted"]["met"]
