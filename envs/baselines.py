@@ -112,24 +112,31 @@ def _clear(start: np.ndarray, end: np.ndarray, balls: np.ndarray, gap: float) ->
 
 
 # -- slingshot -------------------------------------------------------------------------------
+def ballistic_angle(dx: Any, dy: Any, speed: Any, high: Any) -> np.ndarray:
+    """Launch angles (rad) that put a drag-free projectile leaving at ``speed`` (m/s)
+    through the point ``(dx, dy)`` (m) from the launch point: the lower root of
+
+        y = x tan(t) - g x^2 / (2 v^2 cos^2 t),  a quadratic in tan(t),
+
+    or the upper one where ``high``. Out of reach (or behind), 45 degrees: the farthest
+    throw. Arrays broadcast; the result is float64."""
+    dx, dy, v = (np.asarray(a, np.float64) for a in (dx, dy, speed))
+    disc = v**4 - GRAVITY * (GRAVITY * dx * dx + 2 * dy * v**2)
+    reach = (disc >= 0) & (dx > 0)
+    root = np.sqrt(np.where(reach, disc, 0.0))
+    tangent = (v**2 + np.where(high, root, -root)) / (GRAVITY * np.where(reach, dx, 1.0))
+    return np.where(reach, np.arctan(tangent), math.pi / 4)
+
+
 def _slingshot_row(row: np.ndarray, high: bool) -> np.ndarray:
     slots = row[:-1].reshape(-1, slingshot.FEATURES)[: slingshot.MAX_PIGS]
     alive = np.flatnonzero(slots[:, 0] > 0.5)
     if alive.size == 0:
         return np.zeros(2)
-    arena = slingshot.ARENA_X
-    x = slots[alive, 3] * (arena[1] - arena[0]) / 2 + (arena[0] + arena[1]) / 2
-    y = slots[alive, 4] * 10.0
+    x, y = slingshot.slot_positions(slots[alive])
     k = int(np.argmin(x))
     dx, dy = x[k] - slingshot.SLING[0], y[k] - slingshot.SLING[1]
-    speed = slingshot.SPEED_RANGE[1]
-    # y = x tan(t) - g x^2 / (2 v^2 cos^2 t), a quadratic in tan(t).
-    disc = speed**4 - GRAVITY * (GRAVITY * dx * dx + 2 * dy * speed**2)
-    if disc < 0 or dx <= 0:
-        angle = math.pi / 4
-    else:
-        root = math.sqrt(disc)
-        angle = math.atan((speed**2 + (root if high else -root)) / (GRAVITY * dx))
+    angle = float(ballistic_angle(dx, dy, slingshot.SPEED_RANGE[1], high))
     lo, hi = slingshot.ANGLE_RANGE
     angle = min(max(angle, lo), hi)
     return np.array([2 * (angle - lo) / (hi - lo) - 1, 1.0])

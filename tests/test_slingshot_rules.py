@@ -386,3 +386,26 @@ def test_level_sets_refuse_bad_values_by_name(options, message):
     options = {"level": "random", **options}
     with pytest.raises(ValueError, match=message):
         SlingshotGame(1, **options)
+
+
+def test_kept_levels_play_bitwise_as_levels_built_afresh():
+    """A generated level from a fixed set is built once and kept: episodes on the kept
+    build play exactly as on a fresh build (a build is a function of the level alone)."""
+
+    def play(keep: bool) -> tuple[list[np.ndarray], int]:
+        game = SlingshotGame(4, level="random", num_levels=3, start_level=20)
+        game.seed(np.arange(4), [0, 1, 2, 3])
+        rng, seen = np.random.default_rng(7), []
+        for _ in range(6):  # every episode reset, so every world deals a level each time
+            if not keep:
+                game._built.clear()
+            game.reset(np.arange(4))
+            seen.append(game.observe())
+            reward, _, _ = game.shoot(np.arange(4), rng.uniform(-1, 1, (4, 2)))
+            seen += [game.observe(), reward]
+        return seen, len(game._built)
+
+    kept, count = play(keep=True)
+    fresh, _ = play(keep=False)
+    assert count == 3  # 24 episodes, three levels, each built once
+    assert all(np.array_equal(a, b) for a, b in zip(kept, fresh, strict=True))
