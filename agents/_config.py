@@ -55,7 +55,12 @@ RUN_KEYS = (
 )
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
 EXTRACTORS = ("pool_relative", "pool_pockets", "pool_cuts", "pool_target")  # agents/_features.py
-TRANSFORMS = ("direction_vector", "ball_contact", "pocket_choice")  # agents/_wrappers.py
+TRANSFORMS = (
+    "direction_vector",
+    "ball_contact",
+    "pocket_choice",
+    "target_choice",
+)  # agents/_wrappers.py
 SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 

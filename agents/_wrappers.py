@@ -49,7 +49,7 @@ throw and the pocket's jaws. This is a parameterized action (Hausknecht and Ston
 "Deep reinforcement learning in parameterized action space", 2016: a choice made by the
 argmax of continuous preferences, each with its own parameters), which a Gaussian
 policy explores as it explores any number. What ``ball_contact`` left to the network
-and it learnt poorly (hyperparams/ppo.yml, runs N, O, P) is the exact ``sin(cut)`` of
+and it learnt poorly (hyperparams/ppo.yml, runs N-Q) is the exact ``sin(cut)`` of
 whichever pocket it meant, a function with a jump wherever the best pocket changes: a
 128 x 128 MLP regressing the ghost-ball player's contact point from ``pool_cuts``
 features, in plain supervised learning on 22,000 tables, still missed by 0.06 (median;
@@ -57,6 +57,16 @@ features, in plain supervised learning on 22,000 tables, still missed by 0.06 (m
 and the network's outputs are smooth preferences. Which pocket, the trim and the speed
 (the ghost-ball player's fixed rule scratches on 6 % of its shots) are learnt. The
 ``pool_target`` features describe the same shots.
+
+``target_choice`` (Slingshot2D): the player names a pig and an arc. The policy gives
+seven numbers: four pig preferences, an arc ``h``, an angle trim ``t`` and a speed
+``s``. The bird is launched at ``v`` (``s`` on the env's speed scale) along the
+drag-free parabola through the preferred pig's centre, the high one if ``h > 0``
+(``impulse2d.envs.baselines.ballistic_angle``), turned by ``0.1 tanh(t)`` rad (about
+1 m up or down at 10 m) to hit the structure under or above a pig. Out of reach at
+``v``, the launch is at 45 degrees. The ballistic player is one of these actions (the
+nearest pig, the low arc, full speed, no trim); which pig, which arc, how fast and the
+trim are learnt.
 """
 
 from __future__ import annotations
@@ -128,6 +138,33 @@ def pocket_choice(actions: np.ndarray, obs: np.ndarray) -> np.ndarray:
     return out.numpy().astype(np.float32)
 
 
+ANGLE_TRIM = 0.1  # rad: most the trim turns the launch
+
+
+def target_choice(actions: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """``(n, 7)`` policy outputs (four pig preferences, arc, trim, speed) and ``(n, 217)``
+    Slingshot2D observations -> ``(n, 2)`` env actions (see the module docstring). With no
+    pig left, 45 degrees."""
+    from impulse2d.envs import slingshot
+    from impulse2d.envs.baselines import ballistic_angle
+
+    actions = np.asarray(actions, np.float64)
+    slots = np.asarray(obs, np.float64)[:, :-1].reshape(len(actions), -1, slingshot.FEATURES)
+    pigs = slots[:, : slingshot.MAX_PIGS]
+    alive = pigs[..., 0] > 0.5
+    target = np.argmax(np.where(alive, actions[:, : slingshot.MAX_PIGS], -np.inf), axis=1)
+    x, y = slingshot.slot_positions(pigs[np.arange(len(actions)), target])
+    lo, hi = slingshot.SPEED_RANGE
+    speed_action = np.tanh(actions[:, 6])
+    speed = lo + 0.5 * (speed_action + 1.0) * (hi - lo)
+    dx, dy = x - slingshot.SLING[0], y - slingshot.SLING[1]
+    angle = ballistic_angle(dx, dy, speed, actions[:, 4] > 0)
+    angle = np.where(alive.any(axis=1), angle + ANGLE_TRIM * np.tanh(actions[:, 5]), np.pi / 4)
+    lo, hi = slingshot.ANGLE_RANGE
+    angle_action = np.clip(2 * (angle - lo) / (hi - lo) - 1, -1.0, 1.0)
+    return np.stack([angle_action, speed_action], axis=1).astype(np.float32)
+
+
 BOUND = 5.0
 Transform = Callable[[np.ndarray, np.ndarray], np.ndarray]
 TRANSFORMS: dict[str, tuple[int, Transform]] = {
@@ -135,6 +172,7 @@ TRANSFORMS: dict[str, tuple[int, Transform]] = {
     "direction_vector": (3, direction_vector),
     "ball_contact": (2, ball_contact),
     "pocket_choice": (8, pocket_choice),
+    "target_choice": (7, target_choice),
 }
 
 

@@ -193,10 +193,18 @@ def test_slingshot_metrics_in_the_table(tmp_path: Path) -> None:
         assert 0.0 <= row["cleared"]["mean"] <= 1.0
 
 
-@pytest.mark.parametrize("algo", ["ppo", "sac"])
-@pytest.mark.parametrize("env", ["Pool2D-v0", "Slingshot2D-v0"])
+def _shipped_entries() -> list[tuple[str, str]]:
+    return [
+        (algo, entry)
+        for algo in ("ppo", "sac")
+        for entry in yaml.safe_load((_config.HYPERPARAMS_DIR / f"{algo}.yml").read_text())
+    ]
+
+
+@pytest.mark.parametrize(("algo", "env"), _shipped_entries())
 def test_shipped_hyperparameters_resolve(algo: str, env: str) -> None:
     config = _config.resolve(algo, env)
+    assert config["entry"] == env and config["env_id"] == env.partition("/")[0]
     assert config["n_timesteps"] > 0 and config["n_envs"] > 0
     assert "env_kwargs" in config and config["policy"] == "MlpPolicy"
     assert "gamma" in config["hyperparams"]
