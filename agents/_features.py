@@ -57,8 +57,12 @@ import gymnasium as gym
 import torch
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-# Pool2D's observation scale: x / (length / 2), y / (width / 2) (see Pool2DEnv).
-_HALF_LENGTH, _HALF_WIDTH = 1.27, 0.635
+from impulse2d.envs.pool import BALL_RADIUS, pockets
+
+from ._pool_geometry import (  # Pool2D's observation scale: x / (L/2), y / (W/2)
+    HALF_SIZE,
+    target_shots,
+)
 
 
 class PoolRelativeFeatures(BaseFeaturesExtractor):
@@ -76,7 +80,7 @@ class PoolRelativeFeatures(BaseFeaturesExtractor):
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         balls = observations.reshape(observations.shape[0], -1, 3)
-        scale = observations.new_tensor([_HALF_LENGTH, _HALF_WIDTH])
+        scale = observations.new_tensor(HALF_SIZE)
         xy = balls[:, :, :2] * scale
         offset = xy[:, 1:] - xy[:, :1]  # object balls relative to the cue ball
         on_table = (balls[:, 1:, 2:3] < 0.5).to(observations.dtype)
@@ -94,8 +98,6 @@ class PoolPocketFeatures(PoolRelativeFeatures):
     PER_POCKET = 3
 
     def __init__(self, observation_space: gym.spaces.Box) -> None:
-        from impulse2d.envs.pool import pockets
-
         super().__init__(observation_space)
         centres = torch.as_tensor(pockets()[0], dtype=torch.float32)  # (6, 2) m
         self.register_buffer("pocket_centres", centres, persistent=False)
@@ -104,7 +106,7 @@ class PoolPocketFeatures(PoolRelativeFeatures):
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         relative = super().forward(observations)
         balls = observations.reshape(observations.shape[0], -1, 3)[:, 1:]
-        scale = observations.new_tensor([_HALF_LENGTH, _HALF_WIDTH])
+        scale = observations.new_tensor(HALF_SIZE)
         xy = balls[:, :, :2] * scale  # (n, balls, 2) m
         on_table = (balls[:, :, 2:3] < 0.5).to(observations.dtype)[..., None]
         to_pocket = self.pocket_centres.to(observations.dtype) - xy[:, :, None, :]
@@ -122,8 +124,6 @@ class PoolCutFeatures(PoolPocketFeatures):
     PER_CUT = 2
 
     def __init__(self, observation_space: gym.spaces.Box) -> None:
-        from impulse2d.envs.pool import BALL_RADIUS
-
         super().__init__(observation_space)
         self.ball_radius = BALL_RADIUS
         self._features_dim += self.PER_CUT * len(self.pocket_centres) * self.balls
@@ -131,7 +131,7 @@ class PoolCutFeatures(PoolPocketFeatures):
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         pockets = super().forward(observations)
         balls = observations.reshape(observations.shape[0], -1, 3)
-        scale = observations.new_tensor([_HALF_LENGTH, _HALF_WIDTH])
+        scale = observations.new_tensor(HALF_SIZE)
         xy = balls[:, :, :2] * scale
         cue, objects = xy[:, :1, None, :], xy[:, 1:, None, :]  # (n, 1, 1, 2), (n, k, 1, 2)
         to_pocket = self.pocket_centres.to(observations.dtype) - objects  # (n, k, 6, 2)
@@ -159,8 +159,6 @@ class PoolTargetFeatures(BaseFeaturesExtractor):
         super().__init__(observation_space, size + 4 + 6 * self.PER_POCKET)
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
-        from ._pool_geometry import target_shots
-
         shot = target_shots(observations)
         offset = shot["ball"] - shot["cue"]
         distance = torch.linalg.vector_norm(offset, dim=1, keepdim=True)
