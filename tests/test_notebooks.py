@@ -101,7 +101,16 @@ def test_training_notebook_runs_on_a_tiny_budget(
         assert re.search(rf"^\| {re.escape(player)} \| -?\d", text, re.MULTILINE), text
     assert "4 episodes each" in text
     # It trains with ppo.yml's tuned entry (the aids included), not a copy of old settings.
-    assert "action_transform: direction_vector" in text and "n_steps: 1" in text, text
+    from agents import resolve
+
+    transform = resolve("ppo", "Pool2D-v0")["action_transform"]
+    assert f"action_transform: {transform}" in text and "n_steps: 1" in text, text
+    # Its own tally of the episodes counts the pots (the ghost-ball player pots each ball
+    # of these four tables with its first shot): the shot that ends an episode counts.
+    ghost = re.search(
+        r"^\| ghost ball \(scripted\) \| ([\d.]+) ± [\d.]+ \| ([\d.]+) \|", text, re.M
+    )
+    assert ghost and ghost.groups() == ("1.00", "1.00"), text
     mimes = {mime for o in outputs for mime in o.get("data", {})}
     assert {"image/png", "image/gif"} <= mimes  # the learning curve, the agent playing
     assert list(tmp_path.iterdir()) == [tmp_path / TRAIN], "the notebook wrote files"
