@@ -137,7 +137,7 @@ def evaluate(
     _media.learning_curve(
         run_dir,
         run_dir / "learning_curve.png",
-        f"{task.env_id}: {config['algo'].upper()}, seed {config['seed']}",
+        f"{config.get('entry', task.env_id)}: {config['algo'].upper()}, seed {config['seed']}",
         {
             f"random ({reward['random']:.2f})": reward["random"],
             f"scripted: {task.scripted_name} ({reward['scripted']:.2f})": reward["scripted"],
@@ -283,7 +283,7 @@ def summarize_runs(run_dirs: list[str | Path], plot: str | Path | None = None) -
                 for run_dir, run in zip(run_dirs, runs, strict=True)
             ],
             Path(plot),
-            f"{algo} on {first['env_id']}: {len(runs)} training seeds",
+            f"{algo} on {first.get('entry', first['env_id'])}: {len(runs)} training seeds",
             {
                 "random, evaluated": first["policies"]["random"]["reward"]["mean"],
                 f"scripted ({first['scripted']}), evaluated": first["policies"]["scripted"][
