@@ -77,3 +77,14 @@ def test_a_bad_searched_value_fails_before_ray_starts(tmp_path: Path) -> None:
     }  # fmt: skip
     with pytest.raises(ValueError, match="not_a_ppo_argument"):
         sweep.sweep(spec, [0], {"not_a_ppo_argument": [1]}, tmp_path)
+
+
+def test_a_trial_of_a_variant_entry_is_that_entry_with_the_seed_and_setting() -> None:
+    spec = {
+        "env_id": "Slingshot2D-v0/generated", "algo": "ppo", "config_file": None,
+        "timesteps": 64, "num_envs": 4, "env_kwargs": {}, "overrides": {},
+    }  # fmt: skip
+    config = sweep.trial_config(spec, 3, {"gamma": 0.5})
+    assert config["env_id"] == "Slingshot2D-v0" and config["entry"] == "Slingshot2D-v0/generated"
+    assert config["seed"] == 3 and config["hyperparams"]["gamma"] == 0.5
+    assert config["env_kwargs"]["num_levels"] > 0 and config["eval_env_kwargs"]["start_level"] > 0
