@@ -57,12 +57,10 @@ import gymnasium as gym
 import torch
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-from impulse2d.envs.pool import BALL_RADIUS, pockets
+from impulse2d.envs.pool import pockets
 
-from ._pool_geometry import (  # Pool2D's observation scale: x / (L/2), y / (W/2)
-    HALF_SIZE,
-    target_shots,
-)
+# HALF_SIZE: Pool2D's observation scale, x / (L/2) and y / (W/2).
+from ._pool_geometry import HALF_SIZE, balls, shots, target_shots
 
 
 class PoolRelativeFeatures(BaseFeaturesExtractor):
@@ -125,23 +123,16 @@ class PoolCutFeatures(PoolPocketFeatures):
 
     def __init__(self, observation_space: gym.spaces.Box) -> None:
         super().__init__(observation_space)
-        self.ball_radius = BALL_RADIUS
         self._features_dim += self.PER_CUT * len(self.pocket_centres) * self.balls
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         pockets = super().forward(observations)
-        balls = observations.reshape(observations.shape[0], -1, 3)
-        scale = observations.new_tensor(HALF_SIZE)
-        xy = balls[:, :, :2] * scale
-        cue, objects = xy[:, :1, None, :], xy[:, 1:, None, :]  # (n, 1, 1, 2), (n, k, 1, 2)
-        to_pocket = self.pocket_centres.to(observations.dtype) - objects  # (n, k, 6, 2)
-        u_bp = to_pocket / torch.linalg.vector_norm(to_pocket, dim=-1, keepdim=True).clamp_min(1e-6)
-        aim = objects - 2 * self.ball_radius * u_bp - cue  # cue ball to the ghost point
-        u = aim / torch.linalg.vector_norm(aim, dim=-1, keepdim=True).clamp_min(1e-6)
-        sine = u_bp[..., 0] * u[..., 1] - u_bp[..., 1] * u[..., 0]
-        cosine = (u_bp * u).sum(dim=-1)
-        on_table = (balls[:, 1:, 2:3] < 0.5).to(observations.dtype)  # (n, k, 1)
-        extra = torch.stack([sine, cosine], dim=-1) * on_table[..., None]  # (n, k, 6, 2)
+        xy, on_table = balls(observations)
+        n, k = xy.shape[0], xy.shape[1] - 1
+        cue = xy[:, :1].expand(-1, k, -1).reshape(n * k, 2)
+        shot = shots(cue, xy[:, 1:].reshape(n * k, 2))  # every object ball, each pocket
+        cuts = torch.stack([shot["sin"], shot["cos"]], dim=-1).reshape(n, k, -1, 2)
+        extra = cuts * on_table[:, 1:, None, None].to(observations.dtype)
         return torch.cat([pockets, extra.flatten(1)], dim=1)
 
 

@@ -102,12 +102,12 @@ def evaluate(
         raise ValueError(f"seed must be an int >= 0, got {seed!r}")
     if video not in ("gif", "mp4", None):
         raise ValueError(f"video must be 'gif', 'mp4' or None, got {video!r}")
+    if env_kwargs is not None and not isinstance(env_kwargs, dict):
+        raise ValueError(f"env_kwargs must be a mapping, got {env_kwargs!r}")
     run_dir = Path(run_dir)
     start = time.perf_counter()
     trained, config = load_policy(run_dir)
     task = _tasks.task(config["env_id"])
-    if env_kwargs is not None and not isinstance(env_kwargs, dict):
-        raise ValueError(f"env_kwargs must be a mapping, got {env_kwargs!r}")
     trained_on = config["env_kwargs"]
     env_kwargs = {**trained_on, **config.get("eval_env_kwargs", {}), **(env_kwargs or {})}
     players = {"trained": trained, "random": random_policy(seed), "scripted": task.scripted}

@@ -61,6 +61,19 @@ def make_vec_env(config: dict[str, Any], seed: int, monitor: Path | None = None)
     return venv
 
 
+def _check_evaluation_env(config: dict[str, Any]) -> None:
+    """Build the env evaluation will play (``eval_env_kwargs`` over ``env_kwargs``) once,
+    so that a bad argument fails now, by name, not after the training it would end."""
+    if not config.get("eval_env_kwargs"):
+        return
+    import gymnasium as gym
+
+    import impulse2d  # noqa: F401  (registers the env ids)
+
+    kwargs = {**config["env_kwargs"], **config["eval_env_kwargs"]}
+    gym.make(config["env_id"], **kwargs).close()
+
+
 def _normalized(venv: Any, config: dict[str, Any], stats: Path | None) -> Any:
     """Wrap in ``VecNormalize`` if the config asks for it (loading saved statistics when
     resuming, so the agent sees the inputs it was trained on)."""
@@ -118,6 +131,7 @@ def train(
 
     seed = config["seed"]
     set_random_seed(seed)
+    _check_evaluation_env(config)
     venv = make_vec_env(config, seed, monitor=run_dir)
     stats = resume_path.parent / "vecnormalize.pkl" if resume_path is not None else None
     venv = _normalized(venv, config, stats)

@@ -381,6 +381,16 @@ def test_evaluation_plays_the_eval_env_kwargs_over_the_training_ones(tmp_path: P
     assert results["policies"]["scripted"]["birds_used"]["mean"] == 1.0
 
 
+def test_bad_evaluation_env_kwargs_fail_before_training(tmp_path: Path) -> None:
+    path = tmp_path / "ppo.yml"
+    path.write_text(VARIANT_YAML.replace("start_level: 1000", "start_level: -1"))
+    with pytest.raises(ValueError, match=r"^start_level must be an int >= 0, got -1"):
+        _train(tmp_path / "run", "Slingshot2D-v0/generated", "ppo", 32, "--config", str(path))
+    assert not (tmp_path / "run" / "model.zip").exists()
+    with pytest.raises(ValueError, match=r"^env_kwargs must be a mapping"):
+        evaluate.evaluate(tmp_path, env_kwargs=[("level", "random")])
+
+
 def test_targets_compare_the_trained_agent_with_the_named_player() -> None:
     from agents._tasks import task
 
