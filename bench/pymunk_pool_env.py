@@ -3,8 +3,9 @@
 The game of ``impulse2d.envs.pool``, with its constants imported so the two cannot drift
 apart: 16 balls (the cue ball uniform behind the head string, clear of the rack and the
 pockets, plus ``rack_positions()``), ``cushions()`` as static boxes, ``pockets()``. A shot
-is an impulse ``m v`` on the cue ball, the action mapped as ``PoolGame._launch`` maps it
-(angle ``pi a0``, speed linear on ``SPEED_RANGE``), then dt = 1/120 s steps until every
+sets the cue ball moving (an impulse ``m v`` here, which pymunk takes and which wakes it),
+the action mapped as ``PoolGame._launch`` maps it (angle ``pi a0``, speed linear on
+``SPEED_RANGE``), then dt = 1/120 s steps until every
 ball is at rest, or 20 s. A potted cue ball comes back near the head spot
 (``PoolGame._spot_near_head``); after 30 shots or a cleared table the balls are racked.
 
@@ -73,6 +74,7 @@ import pymunk
 import pymunk.batch as pb
 
 from impulse2d.envs import pool
+from impulse2d.envs._core import action_to_range
 from impulse2d.envs.pool import BALL_MASS, BALL_RADIUS, DT, PoolGame
 
 # PoolGame's world settings and episode limits, not importable (checked by check_constants).
@@ -219,8 +221,7 @@ class Table:
     def launch(self) -> None:
         """A random action in [-1, 1]^2, mapped exactly as ``PoolGame._launch`` maps it."""
         a = self.rng.uniform(-1.0, 1.0, 2)
-        lo, hi = pool.SPEED_RANGE
-        angle, speed = math.pi * a[0], lo + 0.5 * (a[1] + 1.0) * (hi - lo)
+        angle, speed = math.pi * a[0], action_to_range(a[1], pool.SPEED_RANGE)
         cue = self.bodies[0]
         impulse = (BALL_MASS * speed * math.cos(angle), BALL_MASS * speed * math.sin(angle))
         cue.apply_impulse_at_world_point(impulse, cue.position)  # wakes it

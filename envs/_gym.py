@@ -27,6 +27,7 @@ Every info key has a ``_key`` mask saying which envs it holds (Gymnasium's layou
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -39,6 +40,8 @@ from gymnasium.vector.utils import batch_space
 from impulse2d import _checks
 
 from ._core import GameState, ShotGame, check_action
+
+logger = logging.getLogger("impulse2d.envs")
 
 
 @dataclass(frozen=True)
@@ -55,42 +58,67 @@ RENDER_SIZE = (480, 270)  # width, height of rgb_array frames (pixels)
 RENDER_FPS = 30  # frames per simulated second in rgb_array_list and human modes
 
 
+def _render_mode(render_mode: Any, modes: list[str]) -> str | None:
+    """``render_mode`` checked: one of ``modes`` (strings) or None."""
+    if render_mode is not None and not (isinstance(render_mode, str) and render_mode in modes):
+        raise ValueError(f"render_mode must be one of {modes} or None, got {render_mode!r}")
+    return None if render_mode is None else str(render_mode)
+
+
 class _Frames:
     """Rendering for one game: the frame after a shot, frames during it, or a window.
 
     ``frames[i]`` holds world ``i``'s frames since the last ``take()`` (``rgb_array_list``):
     every world is drawn at each frame time, so the lists stay of one length and the
-    frames of one time can be tiled side by side. ``human`` shows world 0.
+    frames of one time can be tiled side by side. ``human`` shows world 0. The envs pass
+    ``during_shot`` and ``every`` to ``ShotGame.shoot`` (frames during a shot).
+
+    ``human`` without a display: constructing the env never fails for it, and the window
+    is opened at the first frame (the reset). Where none can open (no DISPLAY or
+    WAYLAND_DISPLAY, and no ``SDL_VIDEODRIVER`` chosen), the env says so once, through
+    the ``logging`` logger ``impulse2d.envs`` (a warning record: printed on stderr when
+    logging is not set up), naming the display variables, ``xvfb-run`` and
+    ``render_mode='rgb_array'``, and then plays on without drawing. Why not an error:
+    Gymnasium's ``check_env`` makes the env in every render mode of ``metadata``, resets
+    it and calls ``render()``, and it passes for its own envs on a headless machine, with
+    warnings as errors; an error there (or a Python warning) would fail the checker, and
+    a headless training job that asks for human mode would stop. Why not silently:
+    a person who asked for a window is told why none came, at the moment it would.
+    A missing pygame-ce is still an ImportError at construction: that is an install to
+    do, not a machine without a screen.
     """
 
     def __init__(
         self, game: ShotGame, render_mode: str | None, modes: list[str], worlds: int = 1
     ) -> None:
-        if render_mode is not None and render_mode not in modes:
-            raise ValueError(f"render_mode must be one of {modes} or None, got {render_mode!r}")
-        self.game, self.mode, self.worlds = game, render_mode, worlds
+        self.game, self.mode, self.worlds = game, _render_mode(render_mode, modes), worlds
         self.renderer: Any = None
         self.frames: list[list[np.ndarray]] = [[] for _ in range(worlds)]
         self.window: Any = None
-        if render_mode == "human":  # no display: say so now, not at the first shot
-            from impulse2d.envs._window import require_display
+        self.no_window = False  # human mode found no display: frames are not drawn
+        if self.mode == "human":
+            from impulse2d.envs._window import load_pygame
 
-            require_display()
-        if render_mode in ("rgb_array_list", "human"):
-            game.frame_every = max(1, round(1.0 / (RENDER_FPS * game.dt)))
-            game.on_frame = self.during_shot
+            load_pygame()  # an ImportError naming the extra, now rather than at a frame
+        self.frame_every = max(1, round(1.0 / (RENDER_FPS * game.dt)))
+
+    @property
+    def every(self) -> int:
+        """Physics steps between frames during a shot; 0 when none are drawn."""
+        drawing = self.mode == "rgb_array_list" or (self.mode == "human" and not self.no_window)
+        return self.frame_every if drawing else 0
 
     def frame(self, world: int = 0) -> np.ndarray:
         if self.renderer is None:
             self.renderer = self.game.make_renderer(*RENDER_SIZE)
         return self.renderer.render(self.game.world, world)
 
-    def during_shot(self, _world: int = 0) -> None:
+    def during_shot(self) -> None:
         """One frame time: every world into its list, or world 0 into the window."""
         if self.mode == "rgb_array_list":
             for i, frames in enumerate(self.frames):
                 frames.append(self.frame(i))
-        elif self.mode == "human":
+        elif self.mode == "human" and self._window_open():
             self.show(self.frame(0))
 
     def take(self) -> list[list[np.ndarray]]:
@@ -98,11 +126,20 @@ class _Frames:
         taken, self.frames = self.frames, [[] for _ in range(self.worlds)]
         return taken
 
-    def show(self, frame: np.ndarray) -> None:
-        from impulse2d.envs._window import Window
+    def _window_open(self) -> bool:
+        """Whether the human window is open, opening it at the first frame; without a
+        display, say so once and draw nothing from then on (see the class docstring)."""
+        if self.window is None and not self.no_window:
+            from impulse2d.envs._window import Window
 
-        if self.window is None:
-            self.window = Window(frame.shape[1], frame.shape[0], RENDER_FPS)
+            try:
+                self.window = Window(*RENDER_SIZE, RENDER_FPS)
+            except RuntimeError as error:
+                self.no_window = True
+                logger.warning("%s. This env plays on without a window.", error)
+        return self.window is not None
+
+    def show(self, frame: np.ndarray) -> None:
         self.window.show(frame)
 
     def close(self) -> None:
@@ -129,6 +166,7 @@ class ShotEnv(gym.Env):
     game_class: type[ShotGame]
 
     def __init__(self, render_mode: str | None = None, **game_options: Any) -> None:
+        render_mode = _render_mode(render_mode, self.metadata["render_modes"])
         self.game = self.game_class(1, **game_options)
         self.render_mode = render_mode
         self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"])
@@ -153,7 +191,10 @@ class ShotEnv(gym.Env):
         if not self._ready:
             raise RuntimeError("call reset() before step()")
         action = check_action(action, self.action_space.shape)
-        reward, terminated, info = self.game.shoot([0], action[None])
+        frames = self._frames
+        reward, terminated, info = self.game.shoot(
+            [0], action[None], frames.during_shot, frames.every
+        )
         self._after_move()
         obs = self.game.observe()[0]
         return obs, float(reward[0]), bool(terminated[0]), False, _scalars(info)
@@ -220,14 +261,19 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
         **game_options: Any,
     ) -> None:
+        # The cheap checks first, then the game (which checks num_envs and its own).
         self.autoreset_mode = _autoreset_mode(autoreset_mode)
         self.metadata = {**type(self).metadata, "autoreset_mode": self.autoreset_mode}
-        self.game = self.game_class(num_envs, **game_options)
-        self.game.world.threads = threads
-        self.num_envs = self.game.batch_size
         if max_episode_steps is not None:
-            max_episode_steps = _checks.positive_int("max_episode_steps", max_episode_steps)
+            # The episode's step count is an int64.
+            max_episode_steps = _checks.int_in(
+                "max_episode_steps", max_episode_steps, 1, 2**63 - 1, "2**63 - 1"
+            )
         self.max_episode_steps = max_episode_steps
+        render_mode = _render_mode(render_mode, self.metadata["render_modes"])
+        self.game = self.game_class(num_envs, **game_options)
+        self.game.world.threads = threads  # checked there: None or an int in [1, cores]
+        self.num_envs = self.game.batch_size
         self.render_mode = render_mode
         self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"], self.num_envs)
         self.single_observation_space = gym.spaces.Box(
@@ -291,7 +337,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         self, actions: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         """A SAME_STEP vector step: every env shoots; ended episodes reset at once."""
-        reward, terminated, info = self.game.shoot(self._all, actions)
+        reward, terminated, info = self._shoot(self._all, actions)
         self._moves += 1
         truncated = self._truncated(terminated)
         observations = self.game.observe()
@@ -332,6 +378,10 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         self._autoreset[picked] = state.autoreset[picked]
         return self.game.observe()
 
+    def _shoot(self, worlds: np.ndarray, actions: np.ndarray) -> tuple[Any, Any, Any]:
+        """``game.shoot`` with the frames of the render mode during the shot."""
+        return self.game.shoot(worlds, actions, self._frames.during_shot, self._frames.every)
+
     def _truncated(self, terminated: np.ndarray) -> np.ndarray:
         if self.max_episode_steps is None:
             return np.zeros(self.num_envs, dtype=bool)
@@ -351,7 +401,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         terminated = np.zeros(self.num_envs, dtype=bool)
         infos: dict[str, Any] = {}
         if playing.size:
-            shot_reward, shot_terminated, info = self.game.shoot(playing, actions[playing])
+            shot_reward, shot_terminated, info = self._shoot(playing, actions[playing])
             reward[playing], terminated[playing] = shot_reward, shot_terminated
             self._moves[playing] += 1
             full = {}
@@ -373,7 +423,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
                 f"envs {ended} ended their episodes and autoreset_mode is DISABLED: reset "
                 "them first with reset(options={'reset_mask': mask})"
             )
-        reward, terminated, info = self.game.shoot(self._all, actions)
+        reward, terminated, info = self._shoot(self._all, actions)
         self._moves += 1
         truncated = self._truncated(terminated)
         self._autoreset = terminated | truncated

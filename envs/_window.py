@@ -1,7 +1,9 @@
 """A pygame-ce window that shows frames at a fixed rate (``render_mode="human"``).
 
-pygame-ce is the optional extra ``impulse2d[play]``; without it, or without a display,
-the error says what to install or to use ``render_mode="rgb_array"`` instead.
+pygame-ce is the optional extra ``impulse2d[play]``; without it the error says what to
+install. Without a display ``Window`` raises a RuntimeError that names the display
+variables, ``xvfb-run`` and ``render_mode="rgb_array"``; the envs turn it into a one-time
+message and play on without a window (``envs/_gym.py``, ``_Frames``).
 """
 
 from __future__ import annotations

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from . import pool, slingshot
+from ._core import range_to_action
 
 GRAVITY = 9.81
 
@@ -50,9 +51,9 @@ def _rows(observation: Any, act: Any) -> np.ndarray:
 
 # -- pool ------------------------------------------------------------------------------------
 def _pool_row(row: np.ndarray) -> np.ndarray:
-    balls = row.reshape(-1, 3)
-    xy = balls[:, :2] * (pool.TABLE_LENGTH / 2, pool.TABLE_WIDTH / 2)
-    cue, on_table = xy[0], balls[:, 2] < 0.5
+    positions, flags = pool.ball_positions(row)
+    xy, on_table = positions[0], flags[0]
+    cue = xy[0]
     targets = np.flatnonzero(on_table[1:]) + 1
     r = pool.BALL_RADIUS
     best: tuple[float, np.ndarray, float] | None = None
@@ -84,10 +85,8 @@ def _pool_row(row: np.ndarray) -> np.ndarray:
         aim, speed = xy[nearest] - cue, 3.0
     else:
         _, aim, speed = best
-    lo, hi = pool.SPEED_RANGE
-    return np.array(
-        [math.atan2(aim[1], aim[0]) / math.pi, np.clip(2 * (speed - lo) / (hi - lo) - 1, -1, 1)]
-    )
+    strength = np.clip(range_to_action(speed, pool.SPEED_RANGE), -1, 1)
+    return np.array([math.atan2(aim[1], aim[0]) / math.pi, strength])
 
 
 def _pool_speed(reach: float, run: float, cut: float) -> float:
@@ -139,4 +138,4 @@ def _slingshot_row(row: np.ndarray, high: bool) -> np.ndarray:
     angle = float(ballistic_angle(dx, dy, slingshot.SPEED_RANGE[1], high))
     lo, hi = slingshot.ANGLE_RANGE
     angle = min(max(angle, lo), hi)
-    return np.array([2 * (angle - lo) / (hi - lo) - 1, 1.0])
+    return np.array([range_to_action(angle, slingshot.ANGLE_RANGE), 1.0])

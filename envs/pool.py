@@ -12,7 +12,7 @@ from impulse2d import _checks
 from impulse2d import _raster as raster
 from impulse2d.render import Camera, Renderer, Style
 
-from ._core import Info, ShotGame
+from ._core import Info, ShotGame, action_to_range, check_num_envs, shot_steps
 from ._gym import ShotEnv, ShotVectorEnv
 
 # -- the table: published constants, SI units (pooltool's and the WPA's figures) --------------
@@ -33,6 +33,9 @@ HEAD_SPOT = (-TABLE_LENGTH / 4, 0.0)  # where a potted cue ball goes back
 FOOT_SPOT = (TABLE_LENGTH / 4, 0.0)  # the rack's apex
 SPEED_RANGE = (0.25, 6.0)  # cue-ball speed (m/s) at action[1] = -1 and +1
 DT = 1.0 / 120.0  # physics step (s)
+# The largest shaping weight (see Pool2DEnv, Rewards): the potential moves by at most ~8 a
+# shot, so at 1000 the game's own +1 a ball is already lost in the shaping term.
+MAX_SHAPING = 1000.0
 # Colours: the cue ball, then object balls 1..15 (the stripes 9..15 drawn as their solids).
 _SOLIDS = [
     (235, 200, 40),
@@ -63,6 +66,16 @@ def pockets() -> tuple[np.ndarray, np.ndarray]:
         centres.append(np.array([0.0, sy * (half_w + r)]))
         radii.append(SIDE_MOUTH / 2)
     return np.array(centres), np.array(radii)
+
+
+def ball_positions(observation: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The inverse of the observation's scaling: ``(n, 3 (k + 1))`` observations (or one
+    row) -> ball centres ``(n, k + 1, 2)`` in metres and on-table flags ``(n, k + 1)``;
+    ball 0 is the cue ball. A potted ball's centre reads (0, 0)."""
+    rows = np.asarray(observation, np.float64)
+    rows = rows.reshape(-1, rows.shape[-1] // 3, 3) if rows.ndim else rows.reshape(-1, 1, 3)
+    xy = rows[..., :2] * np.array([TABLE_LENGTH / 2, TABLE_WIDTH / 2])
+    return xy, rows[..., 2] < 0.5
 
 
 def cushions() -> list[tuple[float, float, float, float]]:
@@ -104,29 +117,28 @@ class PoolGame(ShotGame):
         max_shot_seconds: float = 20.0,
         shaping: float = 0.0,
     ) -> None:
-        super().__init__(batch_size)
-        self.shaping = _checks.non_negative("shaping", shaping)
-        if isinstance(num_balls, bool) or not isinstance(num_balls, (int, np.integer)):
-            raise ValueError(f"num_balls must be an int in [1, 15], got {num_balls!r}")
-        if not 1 <= num_balls <= 15:
-            raise ValueError(f"num_balls must be in [1, 15], got {num_balls}")
-        self.num_balls = int(num_balls)
+        batch_size = check_num_envs(batch_size)
+        self.shaping = _checks.number_in("shaping", shaping, 0.0, MAX_SHAPING)
+        self.num_balls = _checks.int_in("num_balls", num_balls, 1, 15)
         if layout is None:
-            layout = "rack" if num_balls == 15 else "random"
-        self.layout = _checks.choice("layout", layout, ("rack", "random"))
-        self.dt = DT
-        self.max_shot_steps = max(
-            1, round(_checks.positive("max_shot_seconds", max_shot_seconds) / DT)
-        )
-        self.world, self.balls = self._build(batch_size)
-        self.template, self._template_balls = self._build(1)
-        self.pocket_centres, self.pocket_radii = pockets()
+            layout = "rack" if self.num_balls == 15 else "random"
+        self.layout = _checks.word("layout", layout, ("rack", "random"))
+        max_shot_steps = shot_steps(max_shot_seconds, DT)
+        world, self.balls = self._build(batch_size)
+        template, self._template_balls = self._build(1)
         count = self.num_balls + 1
+        super().__init__(
+            world=world,
+            template=template,
+            dt=DT,
+            max_shot_steps=max_shot_steps,
+            observation_low=np.tile(np.array([-1.0, -1.0, 0.0], np.float32), count),
+            observation_high=np.ones(3 * count, np.float32),
+        )
+        self.pocket_centres, self.pocket_radii = pockets()
         self.potted = np.zeros((batch_size, count), dtype=bool)
         self._potted_before = self.potted.copy()
         self._potential_before = np.zeros(batch_size)
-        self.observation_low = np.tile(np.array([-1.0, -1.0, 0.0], np.float32), count)
-        self.observation_high = np.ones(3 * count, np.float32)
 
     def _build(self, batch: int) -> tuple[p2.World, list[p2.Circle]]:
         world = p2.World(
@@ -219,15 +231,17 @@ class PoolGame(ShotGame):
     # -- a shot ------------------------------------------------------------------------------------
     def _launch(self, worlds: np.ndarray, actions: np.ndarray) -> None:
         """``actions[:, 0]``: direction, angle ``pi * a`` from +x; ``actions[:, 1]``:
-        speed, mapped linearly onto ``SPEED_RANGE``. An impulse ``m v`` on the cue ball."""
-        lo, hi = SPEED_RANGE
+        speed, mapped linearly onto ``SPEED_RANGE``. The cue ball's velocity is set in
+        the chosen worlds (at rest between shots, so the others keep theirs, zero, and
+        stay asleep)."""
         angle = math.pi * actions[:, 0]
-        speed = lo + 0.5 * (actions[:, 1] + 1.0) * (hi - lo)
-        impulse = np.zeros((self.batch_size, 2))
-        impulse[worlds, 0] = BALL_MASS * speed * np.cos(angle)
-        impulse[worlds, 1] = BALL_MASS * speed * np.sin(angle)
+        speed = action_to_range(actions[:, 1], SPEED_RANGE)
+        cue = self.balls[0]
+        velocity = np.atleast_2d(cue.velocity).copy()
+        velocity[worlds, 0] = speed * np.cos(angle)
+        velocity[worlds, 1] = speed * np.sin(angle)
         self.world.reset_events(worlds)
-        self.balls[0].apply_impulse(impulse)
+        cue.velocity = velocity  # wakes the ball only where its velocity changed
         self._potted_before[worlds] = self.potted[worlds]
         if self.shaping:
             self._potential_before[worlds] = self._potential(worlds)
@@ -437,12 +451,20 @@ class Pool2DEnv(ShotEnv):
     * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
       pot from anywhere, is the natural first task for learning.
     * `layout`: `"rack"` or `"random"`; default `"rack"` for 15 balls, else `"random"`.
-    * `max_shot_seconds`: simulated time after which a shot is stopped where it stands.
-    * `shaping` (>= 0): weight of the potential-based shaping term (see Rewards).
+    * `max_shot_seconds` (in (0, 3600] s): simulated time after which a shot is stopped
+      where it stands (at least one physics step).
+    * `shaping` (in [0, 1000]): weight of the potential-based shaping term (see Rewards).
+    * `num_envs` (vector env, 1 to 1,000,000): tables stepped together.
+    * `max_episode_steps` (vector env, None or an int >= 1): shots before truncation.
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
-      (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window).
+      (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window;
+      without a display the env says so once, at the first frame, and plays on without
+      one).
+
+    A value outside its rule (a wrong type, NaN, infinity, a huge number) raises
+    `ValueError` naming the argument and its rule when the env is made.
 
     ## Saving and restoring
     `env.unwrapped.save_state()` and `restore_state(state)` save and bring back a table's

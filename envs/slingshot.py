@@ -13,7 +13,14 @@ from impulse2d import _raster as raster
 from impulse2d.render import Camera, Renderer, Style
 
 from . import _levels
-from ._core import Info, ShotGame
+from ._core import (
+    Info,
+    ShotGame,
+    action_to_range,
+    check_num_envs,
+    range_to_action,
+    shot_steps,
+)
 from ._gym import ShotEnv, ShotVectorEnv
 from ._levels import MATERIALS, PIG_HEALTH, PIG_MASS, PIG_RADIUS
 
@@ -69,21 +76,23 @@ class SlingshotGame(ShotGame):
         num_levels: int = 0,
         start_level: int = 0,
     ) -> None:
-        super().__init__(batch_size)
-        self.level = _checks.choice("level", level, ("random", "handmade", *_levels.HANDMADE))
+        batch_size = check_num_envs(batch_size)
+        self.level = _checks.word("level", level, ("random", "handmade", *_levels.HANDMADE))
         self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
-        if isinstance(num_birds, bool) or not isinstance(num_birds, (int, np.integer)):
-            raise ValueError(f"num_birds must be an int in [1, 10], got {num_birds!r}")
-        if not 1 <= num_birds <= 10:
-            raise ValueError(f"num_birds must be in [1, 10], got {num_birds}")
-        self.num_birds = int(num_birds)
-        self.dt = DT
-        self.max_shot_steps = max(
-            1, round(_checks.positive("max_shot_seconds", max_shot_seconds) / DT)
-        )
-        self.world, self.bird, self.pigs, self.blocks = self._build(batch_size)
-        self.template, *self._template_bodies = self._build(1)
+        self.num_birds = _checks.int_in("num_birds", num_birds, 1, 10)
+        max_shot_steps = shot_steps(max_shot_seconds, DT)
+        world, self.bird, self.pigs, self.blocks = self._build(batch_size)
+        template, *self._template_bodies = self._build(1)
         slots = MAX_PIGS + MAX_BLOCKS
+        low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
+        super().__init__(
+            world=world,
+            template=template,
+            dt=DT,
+            max_shot_steps=max_shot_steps,
+            observation_low=np.append(np.tile(low, slots), np.float32(0.0)),
+            observation_high=np.ones(slots * FEATURES + 1, np.float32),
+        )
         self.max_health = np.ones((batch_size, slots))
         self._in_level = np.zeros((batch_size, slots), dtype=bool)
         self._built: dict[tuple, tuple] = {}  # levels built once (see LEVEL_CACHE)
@@ -91,9 +100,6 @@ class SlingshotGame(ShotGame):
         self.birds_left = np.zeros(batch_size, np.int64)
         self._targets = np.array([body.slot for body in (*self.pigs, *self.blocks)])
         self._alive_before = self.alive
-        low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
-        self.observation_low = np.append(np.tile(low, slots), np.float32(0.0))
-        self.observation_high = np.ones(slots * FEATURES + 1, np.float32)
 
     @property
     def alive(self) -> np.ndarray:
@@ -218,10 +224,8 @@ class SlingshotGame(ShotGame):
         self._alive_before = self.alive
         if launch.size == 0:
             return
-        lo, hi = ANGLE_RANGE
-        angle = lo + 0.5 * (actions[:, 0] + 1.0) * (hi - lo)
-        lo, hi = SPEED_RANGE
-        speed = lo + 0.5 * (actions[:, 1] + 1.0) * (hi - lo)
+        angle = action_to_range(actions[:, 0], ANGLE_RANGE)
+        speed = action_to_range(actions[:, 1], SPEED_RANGE)
         bird = self.bird
         enabled = np.atleast_1d(bird.enabled).copy()
         position = np.atleast_2d(bird.position).copy()
@@ -267,7 +271,7 @@ class SlingshotGame(ShotGame):
         lo, hi = ANGLE_RANGE
         angle = min(max(angle, lo), hi)
         power = min(length / FULL_PULL, 1.0)
-        return np.array([2.0 * (angle - lo) / (hi - lo) - 1.0, 2.0 * power - 1.0])
+        return np.array([range_to_action(angle, ANGLE_RANGE), 2.0 * power - 1.0])
 
     # -- observation and pictures ------------------------------------------------------------------
     def observe(self) -> np.ndarray:
@@ -455,12 +459,19 @@ class Slingshot2DEnv(ShotEnv):
     * `num_levels`, `start_level` (ints >= 0, with `level="random"`): the generated levels
       to draw from, seeds `start_level` to `start_level + num_levels - 1` (see Starting
       State); 0 levels: any.
-    * `max_shot_seconds`: simulated time after which a launch is stopped where it stands.
+    * `max_shot_seconds` (in (0, 3600] s): simulated time after which a launch is
+      stopped where it stands (at least one physics step).
+    * `num_envs` (vector env, 1 to 1,000,000): worlds stepped together.
+    * `max_episode_steps` (vector env, None or an int >= 1): launches before truncation.
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
     * `render_mode`: `"rgb_array"` (480x270 frame after the launch), `"rgb_array_list"`
       (frames at 30 per simulated second during the launches), `"human"` (pygame-ce
-      window).
+      window; without a display the env says so once, at the first frame, and plays on
+      without one).
+
+    A value outside its rule (a wrong type, NaN, infinity, a huge number) raises
+    `ValueError` naming the argument and its rule when the env is made.
 
     ## Saving and restoring
     `env.unwrapped.save_state()` and `restore_state(state)` save and bring back a level's

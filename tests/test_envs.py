@@ -9,6 +9,7 @@ hand-made levels. The rules and physics of each game are in ``test_pool_rules.py
 from __future__ import annotations
 
 import itertools
+import logging
 import subprocess
 import sys
 import warnings
@@ -22,6 +23,7 @@ from gymnasium.vector import AutoresetMode
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import impulse2d  # noqa: F401  (registers the ids)
+from impulse2d.envs import VARIANTS
 from impulse2d.envs.baselines import pool_ghost_ball, slingshot_ballistic
 
 OPTIONS: dict[str, dict[str, Any]] = {
@@ -194,8 +196,6 @@ def test_a_learnable_variant_is_its_base_game_with_the_task_s_arguments(variant)
     """For tools that take only an id: each registered variant plays bitwise as the base
     id made with the variant's keyword arguments and episode length, single and batched,
     and passes Gymnasium's checker."""
-    from impulse2d.envs import VARIANTS
-
     base, kwargs, max_steps = VARIANTS[variant]
     moves = actions(max_steps + 1, seed=4, shape=(2, 2))
     for vector in (False, True):
@@ -317,6 +317,7 @@ def test_step_before_reset_and_bad_options_are_refused() -> None:
         gym.make("Pool2D-v0", render_mode="ascii")
     with pytest.raises(ValueError, match="num_envs"):
         gym.make_vec("Pool2D-v0", num_envs=0, vectorization_mode="vector_entry_point")
+    # Every keyword and kind of wrong value: tests/test_env_arguments.py.
 
 
 @pytest.mark.parametrize("env_id", IDS)
@@ -346,25 +347,65 @@ def test_rgb_array_list_holds_the_frames_during_the_shot(env_id: str) -> None:
     assert env.render() == []  # handed over once
 
 
-@pytest.mark.parametrize("env_id", IDS)
-def test_human_render_without_a_display_says_so_at_make(env_id, monkeypatch) -> None:
-    """No display server: SDL would fall back on drawing into memory and the env would
-    play in real time into nowhere; ``gym.make`` refuses, naming the display and the
-    render mode to use instead."""
+def _no_display(monkeypatch: pytest.MonkeyPatch) -> None:
     for name in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
         monkeypatch.delenv(name, raising=False)
-    with pytest.raises(RuntimeError, match="needs a display") as raised:
-        make(env_id, render_mode="human")
-    assert "DISPLAY=None" in str(raised.value) and "render_mode='rgb_array'" in str(raised.value)
 
 
-def test_human_render_with_a_headless_driver_asked_for_plays(monkeypatch) -> None:
-    """``SDL_VIDEODRIVER=dummy`` is the user's own choice (tests, recording): allowed."""
+@pytest.mark.parametrize("env_id", [*IDS, *VARIANTS])
+def test_checkers_pass_in_every_render_mode_without_a_display(env_id, monkeypatch) -> None:
+    """Gymnasium's checker with its render checks (it makes the env again in every mode
+    of ``metadata``, ``human`` included, resets it and renders), on a machine with no
+    display, warnings as errors: as it passes for Gymnasium's own envs. SB3's too."""
+    _no_display(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gym_check_env(gym.make(env_id).unwrapped)
+        sb3_check_env(gym.make(env_id).unwrapped, warn=True)
+
+
+@pytest.mark.parametrize("env_id", IDS)
+def test_human_render_without_a_display_says_so_at_the_first_frame(
+    env_id, monkeypatch, caplog
+) -> None:
+    """No display server: making the env works (Gymnasium's checker makes every mode);
+    at the first frame (the reset) the env says once, as a logged warning, what is
+    missing and what to do (the display variables, xvfb-run, ``rgb_array``), then plays
+    on without a window: no frames drawn, nothing raised, no Python warning."""
+    _no_display(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        env = make(env_id, render_mode="human")
+        assert not caplog.records  # nothing said before a frame is due
+        with caplog.at_level(logging.WARNING, logger="impulse2d.envs"):
+            env.reset(seed=0)
+            for action in actions(2):
+                *_, terminated, truncated, _ = env.step(action)
+                if terminated or truncated:
+                    env.reset()
+            assert env.render() is None
+            env.reset()
+    told = [r for r in caplog.records if r.name == "impulse2d.envs"]
+    assert len(told) == 1 and told[0].levelno == logging.WARNING
+    message = told[0].getMessage()
+    for words in ("needs a display", "DISPLAY=None", "xvfb-run", "render_mode='rgb_array'"):
+        assert words in message
+    frames = env.unwrapped._frames
+    assert frames.window is None and frames.every == 0  # no frames during the shots
+    env.close()
+
+
+def test_human_render_with_a_headless_driver_asked_for_plays(monkeypatch, caplog) -> None:
+    """``SDL_VIDEODRIVER=dummy`` is the user's own choice (tests, recording): the window
+    opens (into memory) and shows the frames of the shot, and nothing is said."""
     monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
     env = make("Pool2D-v0", render_mode="human")
-    env.reset(seed=0)
-    _, _, _, _, info = env.step(np.array([0.1, -1.0], np.float32))  # the softest shot
-    assert info["physics_steps"] > 0
+    with caplog.at_level(logging.WARNING, logger="impulse2d.envs"):
+        env.reset(seed=0)
+        _, _, _, _, info = env.step(np.array([0.1, -1.0], np.float32))  # the softest shot
+    assert info["physics_steps"] > 0 and not caplog.records
+    frames = env.unwrapped._frames
+    assert frames.window is not None and frames.every == round(1 / (30 * env.unwrapped.game.dt))
     env.close()
 
 

@@ -151,3 +151,40 @@ def positive_int(name: str, value: Any) -> int:
     if value < 1:
         raise ValueError(f"{name} must be >= 1, got {value}")
     return int(value)
+
+
+def number_in(
+    name: str, value: Any, low: float, high: float, unit: str = "", low_open: bool = False
+) -> float:
+    """A real number in ``[low, high]`` (``(low, high]`` with ``low_open``), as a float.
+    Every refusal names the parameter and the range, huge and non-finite values alike:
+    ``max_shot_seconds must be in (0, 3600] s, got 1e+300``."""
+    rule = f"in {'(' if low_open else '['}{low:g}, {high:g}]{unit}"
+    try:
+        number = finite_scalar(name, value)
+    except ValueError:
+        raise ValueError(f"{name} must be a real number {rule}, got {value!r}") from None
+    if (number <= low if low_open else number < low) or number > high:
+        raise ValueError(f"{name} must be {rule}, got {number:g}")
+    return number
+
+
+def int_in(name: str, value: Any, low: int, high: int, high_text: str | None = None) -> int:
+    """An integer (Python or numpy) in ``[low, high]``, as an int. Bools, floats (even
+    whole ones), strings and None are refused: ``num_balls must be an int in [1, 15], got
+    1.5``; ``high_text`` writes the upper bound in the message (``"2**63 - 1"``)."""
+    rule = f"[{low}, {high if high_text is None else high_text}]"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an int in {rule}, got {value!r}")
+    if not low <= int(value) <= high:
+        raise ValueError(f"{name} must be in {rule}, got {value}")
+    return int(value)
+
+
+def word(name: str, value: Any, options: tuple[str, ...]) -> str:
+    """One of a fixed set of strings; anything that is not a string (an array, a number)
+    is refused by name too, before it is compared (``choice`` would compare a numpy
+    array element by element)."""
+    if not isinstance(value, str) or value not in options:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}, got {value!r}")
+    return str(value)

@@ -119,9 +119,7 @@ class Player:
         self.game, self.name, self.width, self.height = game, name, width, height
         self.fps, self.realtime, self.seed = fps, realtime, seed
         self.renderer = game.make_renderer(width, height)
-        game.frame_world = 0
-        game.frame_every = max(1, round(1.0 / (fps * game.dt)))
-        game.on_frame = self._during_shot
+        self.frame_every = max(1, round(1.0 / (fps * game.dt)))  # physics steps a frame
         self.episode = -1
         self.press: tuple[float, float] | None = None  # window pixel where a drag started
         self.mouse = (0.0, 0.0)
@@ -161,7 +159,9 @@ class Player:
         action = self.action(press, release)
         self.shooting = True
         try:
-            reward, terminated, info = self.game.shoot([0], action[None])
+            reward, terminated, info = self.game.shoot(
+                [0], action[None], on_frame=self._during_shot, every=self.frame_every
+            )
         except _Quit:
             self.quitting = True
             return
@@ -176,8 +176,8 @@ class Player:
         if self._restart_after_shot:
             self.restart()
 
-    def _during_shot(self, world: int) -> None:
-        """``ShotGame.on_frame``: show the frame, and keep the window responsive."""
+    def _during_shot(self) -> None:
+        """``shoot``'s ``on_frame``: show the frame, and keep the window responsive."""
         pygame = self.pygame
         self._picture = None
         self.draw()
