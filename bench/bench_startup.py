@@ -1,12 +1,24 @@
-"""What a new user waits: compiling the kernels the first time, and importing them after.
+"""What a new user waits: compiling the kernels the first time, and loading them after.
 
-Each case runs in a fresh Python process. ``cold`` points numba's cache at an empty
-directory (``NUMBA_CACHE_DIR``), which is what the first import after installing is;
-``cached`` uses the cache the cold run wrote. Both import impulse2d, build a world and
-step it (one world, then a batch, which has kernels of its own), then make and step
-``gym.make("Pool2D-v0")``. The peer is pymunk, which needs no compiling.
+Each case runs in a fresh Python process and times, from the top of the script (the
+import included), the first thing a user does with the engine:
 
-    python bench/bench_startup.py        # about half a minute: the cold compile dominates
+* ``engine``: ``import impulse2d``, a world of a plane, a circle and a box, its first
+  ``step``, then the first step of a batch of 4 copies (its kernel is another one);
+* ``Pool2D-v0`` / ``Slingshot2D-v0``: ``gym.make`` of the env, ``reset`` and the first
+  shot;
+* ``Pool2D-v0 x64``: the first shot of a batched vector env of 64 tables
+  (``gym.make_vec(..., vectorization_mode="vector_entry_point")``), what training steps.
+
+``cold`` points numba's cache at an empty scratch directory of its own
+(``NUMBA_CACHE_DIR``: never the repository's cache), which is the first run after
+installing; every cold run gets a new one. ``cached`` runs again on the cache the first
+cold run wrote. The notice lines the runs printed on stderr (``impulse2d: compiling
+...``) are shown after the table, and a cached run must print none. The peer is pymunk,
+which needs no compiling.
+
+    python bench/bench_startup.py             # about 12 minutes on 2 cores: 8 cold compiles
+    python bench/bench_startup.py --cases engine --repeats 1
 """
 
 from __future__ import annotations
@@ -17,28 +29,59 @@ import os
 import subprocess
 import sys
 import tempfile
+from typing import Any
 
-_PROBE = r"""
+_Times = list[tuple[float, float]]  # (wall, cpu) seconds of each run
+
+_HEAD = r"""
 import json, time
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 import impulse2d as p2
-t1 = time.perf_counter()
+times, cpu = {}, {}
+def mark(key):
+    times[key], cpu[key] = time.perf_counter() - t0, time.process_time() - c0
+mark("import")
+"""
+
+_TAIL = r"""
+from impulse2d._compile_notice import seconds_compiling
+times["compiling (notice)"] = cpu["compiling (notice)"] = seconds_compiling()
+print(json.dumps({"wall": times, "cpu": cpu}))
+"""
+
+_CASES = {
+    "engine": r"""
 w = p2.World()
 w.add(p2.Plane())
 w.add(p2.Circle(position=(0.0, 1.0)))
 w.add(p2.Box(position=(1.0, 1.0)))
 w.step(1 / 60)
-t2 = time.perf_counter()
+mark("first step")
 w.replicate(4).step(1 / 60)
-t3 = time.perf_counter()
+mark("first batch step")
+""",
+    "Pool2D-v0": r"""
 import gymnasium as gym
-env = gym.make("Pool2D-v0", num_balls=1)
+env = gym.make("Pool2D-v0")
 env.reset(seed=0)
 env.step(env.action_space.sample())
-t4 = time.perf_counter()
-print(json.dumps({"import": t1 - t0, "first step": t2 - t0, "first batch step": t3 - t0,
-                  "first Pool2D shot": t4 - t0}))
-"""
+mark("first Pool2D-v0 shot")
+""",
+    "Slingshot2D-v0": r"""
+import gymnasium as gym
+env = gym.make("Slingshot2D-v0")
+env.reset(seed=0)
+env.step(env.action_space.sample())
+mark("first Slingshot2D-v0 shot")
+""",
+    "Pool2D-v0 x64": r"""
+import gymnasium as gym
+envs = gym.make_vec("Pool2D-v0", num_envs=64, vectorization_mode="vector_entry_point")
+envs.reset(seed=0)
+envs.step(envs.action_space.sample())
+mark("first Pool2D-v0 x64 shot")
+""",
+}
 
 _PYMUNK = r"""
 import json, time
@@ -52,37 +95,77 @@ print(json.dumps({"import": time.perf_counter() - t0, "first step": time.perf_co
 """
 
 
-def _run(code: str, cache: str | None) -> dict[str, float]:
+def _run(code: str, cache: str | None) -> tuple[dict[str, Any], list[str]]:
+    """Run ``code`` in a fresh interpreter (numba's cache in ``cache``); its times and
+    the notice lines it printed."""
     env = dict(os.environ)
-    env.pop("NUMBA_DISABLE_JIT", None)
+    for name in ("NUMBA_DISABLE_JIT", "IMPULSE2D_QUIET", "IMPULSE2D_COMPILE_RUN"):
+        env.pop(name, None)  # a fresh run of its own, which may speak
     if cache is not None:
         env["NUMBA_CACHE_DIR"] = cache
     out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
                          capture_output=True, text=True)  # fmt: skip
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    notices = [line for line in out.stderr.splitlines() if line.startswith("impulse2d:")]
+    return json.loads(out.stdout.strip().splitlines()[-1]), notices
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="cached runs (median)")
+    parser.add_argument("--repeats", type=int, default=2, help="cold runs and cached runs")
+    parser.add_argument("--cases", nargs="+", choices=list(_CASES), default=list(_CASES))
     args = parser.parse_args(argv)
-    print("... cold compile (empty numba cache)", file=sys.stderr, flush=True)
-    with tempfile.TemporaryDirectory() as cache:
-        cold = _run(_PROBE, cache)
-        cached_runs = [_run(_PROBE, cache) for _ in range(args.repeats)]
-    cached = {k: sorted(r[k] for r in cached_runs)[args.repeats // 2] for k in cold}
+    table: dict[str, list[tuple[str, _Times, _Times]]] = {}
+    notices: dict[str, list[str]] = {}
+    for case in args.cases:
+        code = _HEAD + _CASES[case] + _TAIL
+        cold, cached = [], []
+        with tempfile.TemporaryDirectory() as first:
+            for i in range(args.repeats):
+                print(f"... {case}: cold run {i + 1}", file=sys.stderr, flush=True)
+                if i == 0:
+                    times, said = _run(code, first)
+                else:
+                    with tempfile.TemporaryDirectory() as cache:
+                        times, said = _run(code, cache)
+                cold.append(times)
+                notices.setdefault(case, said)
+            for i in range(args.repeats):
+                print(f"... {case}: cached run {i + 1}", file=sys.stderr, flush=True)
+                times, said = _run(code, first)
+                cached.append(times)
+                if said:
+                    raise SystemExit(f"{case}: a cached run printed {said}")
+        table[case] = [
+            (
+                key,
+                [(t["wall"][key], t["cpu"][key]) for t in cold],
+                [(t["wall"][key], t["cpu"][key]) for t in cached],
+            )
+            for key in cold[0]["wall"]
+        ]
     try:
-        peer = _run(_PYMUNK, None)
+        peer, _ = _run(_PYMUNK, None)
     except subprocess.CalledProcessError:
         peer = {}
-    print(
-        f"{'seconds since the interpreter started':40s} {'cold':>8s} {'cached':>8s} {'pymunk':>8s}"
-    )
-    for key in cold:
-        other = f"{peer[key]:8.2f}" if key in peer else f"{'-':>8s}"
-        print(f"{key:40s} {cold[key]:8.2f} {cached[key]:8.2f} {other}")
-    print(f"target: cached import + world + first step under 3 s: {cached['first step']:.2f} s, "
-          f"{'ok' if cached['first step'] < 3.0 else 'MISS'}")  # fmt: skip
+    print(f"seconds since the script started, wall (cpu), {args.repeats} runs each")
+    print(f"{'':34s} {'cold (empty cache)':>26s} {'cached':>24s} {'pymunk':>7s}")
+    for case, rows in table.items():
+        print(case)
+        for key, cold_times, cached_times in rows:
+            other = f"{peer[key]:7.2f}" if case == "engine" and key in peer else f"{'-':>7s}"
+            print(f"  {key:32s} {_list(cold_times):>26s} {_list(cached_times):>24s} {other}")
+    print("what the first cold run of each case printed on stderr:")
+    for case, said in notices.items():
+        for line in said or ["(nothing)"]:
+            print(f"  {case}: {line}")
+    if "engine" in table:
+        first = max(wall for wall, _ in dict((k, c) for k, _, c in table["engine"])["first step"])
+        print(f"target: cached import + world + first step under 3 s: {first:.2f} s, "
+              f"{'ok' if first < 3.0 else 'MISS'}")  # fmt: skip
+
+
+def _list(times: _Times) -> str:
+    return ", ".join(f"{wall:.1f} ({cpu:.1f})" for wall, cpu in times)
 
 
 if __name__ == "__main__":

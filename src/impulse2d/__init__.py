@@ -10,8 +10,13 @@
 
 A ``World(batch_size=1024)`` (or ``world.replicate(1024)``) steps 1,024 copies of a scene
 in one set of arrays. SI units throughout.
+
+The first step after installing or updating compiles the engine's kernels (about a
+minute on two cores; numba caches them, and later runs load them in under a second). It
+says so on stderr while it does; ``IMPULSE2D_QUIET=1`` silences it.
 """
 
+from . import _compile_notice
 from .readouts import ContactPoints, Energy
 from .sensors import Sensor
 from .shapes import Body, Box, Circle, Plane
@@ -31,6 +36,8 @@ __all__ = [
     "World",
 ]
 __version__ = "0.2.0"
+
+_compile_notice.install()
 
 
 def _register_environments() -> None:
