@@ -1,4 +1,4 @@
-"""Training and evaluation of RL agents on Pool2D-v0 and Slingshot2D-v0.
+"""Training and evaluation of RL agents on the impulse2d games (Pool2D, Slingshot2D).
 
 ``python -m agents.train`` trains PPO or SAC (Stable-Baselines3) with hyperparameters from
 ``agents/hyperparams/<algo>.yml`` on the batched vector env, then evaluates the agent;
@@ -14,7 +14,7 @@ from ._config import ALGOS, ENV_IDS, algo_kwargs, resolve
 
 # For scripts and notebooks that build the model themselves: ``resolve`` the YAML entry,
 # ``make_vec_env`` the training env, ``PPO(config["policy"], venv, **algo_kwargs(config))``,
-# and ``agent_policy(model, config)`` to play it on the env's own actions.
+# and ``agent_policy(model)`` to play it as a batch policy.
 __all__ = [
     "ALGOS",
     "ENV_IDS",

@@ -1,15 +1,17 @@
 """Hyperparameter files and the resolved configuration of a run.
 
 A hyperparameter file (``agents/hyperparams/<algo>.yml``) maps env ids to settings, RL Zoo
-style; an env can have more entries, named ``<env id>/<variant>`` (``Pool2D-v0/full``).
+style: any id impulse2d registers (``impulse2d.envs.all_ids()``), the call-shot tasks
+(``Pool2DCallShot-v0``) among them. An id can have more entries, named ``<env id>/<variant>``
+(another budget, say), trained on the same env.
 The run keys (``RUN_KEYS``) belong to this package; every other key is passed to the
 algorithm's constructor (so a misspelt one is caught by checking it against the
 constructor's signature, here, rather than deep inside Stable-Baselines3)::
 
-    Pool2D-v0:
+    Pool2DCallShot-v0:
       n_timesteps: 1.5e5        # training budget (env steps = shots)
       n_envs: 512               # worlds in the batched vector env
-      env_kwargs: {num_balls: 1, max_episode_steps: 5}
+      env_kwargs: {}            # over the id's own arguments
       eval_env_kwargs: {}       # over env_kwargs, for evaluation only (held-out levels)
       normalize: false          # VecNormalize: false, true, or {norm_obs: .., norm_reward: ..}
       policy: MlpPolicy
@@ -42,7 +44,8 @@ import impulse2d.envs as _envs
 
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
 ALGOS = ("ppo", "sac")
-ENV_IDS = _envs.IDS
+ENV_IDS = tuple(_envs.all_ids())
+DEFAULT_ENV = "Pool2DCallShot-v0"
 # Keys of a hyperparameter entry that configure the run, not the algorithm.
 RUN_KEYS = (
     "n_timesteps",
@@ -51,16 +54,8 @@ RUN_KEYS = (
     "eval_env_kwargs",
     "normalize",
     "policy",
-    "action_transform",
 )
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
-EXTRACTORS = ("pool_relative", "pool_pockets", "pool_cuts", "pool_target")  # agents/_features.py
-TRANSFORMS = (
-    "direction_vector",
-    "ball_contact",
-    "pocket_choice",
-    "target_choice",
-)  # agents/_wrappers.py
 SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 
@@ -96,19 +91,19 @@ def check_algo(algo: Any) -> str:
 
 
 def check_env_id(env_id: Any) -> str:
-    """An env id, or ``<env id>/<variant>``: another entry of the hyperparameter file for
-    that env (``Pool2D-v0/full``: the 15-ball game), trained on the same env."""
+    """An env id impulse2d registers, or ``<env id>/<variant>``: another entry of the
+    hyperparameter file for that env, trained on the same env."""
     base, sep, variant = env_id.partition("/") if isinstance(env_id, str) else (env_id, "", "")
     if base not in ENV_IDS or (sep and not re.fullmatch(r"[A-Za-z0-9_.-]+", variant)):
         raise ValueError(
             f"env must be one of {list(ENV_IDS)}, or one of them followed by /<variant> "
-            f"(a YAML entry such as Pool2D-v0/full), got {env_id!r}"
+            f"(another YAML entry for that id), got {env_id!r}"
         )
     return env_id
 
 
 def env_of(entry: str) -> str:
-    """The env id of a hyperparameter entry's name (``Pool2D-v0/full`` -> ``Pool2D-v0``)."""
+    """The env id of a hyperparameter entry's name (``Pool2D-v0/long`` -> ``Pool2D-v0``)."""
     return entry.partition("/")[0]
 
 
@@ -183,7 +178,7 @@ def resolve(
     config such as a resumed run's) with the command line's values on top, checked.
     ``env_id`` names the entry: an env id, or ``<env id>/<variant>``. Returns
     ``{"env_id", "entry", "algo", "seed", "n_timesteps", "n_envs", "env_kwargs",
-    "eval_env_kwargs", "normalize", "policy", "action_transform", "hyperparams"}``
+    "eval_env_kwargs", "normalize", "policy", "hyperparams"}``
     (plain YAML-able values; ``env_id`` is the env itself, ``entry`` the entry's name)."""
     check_env_id(env_id)
     if base is not None:
@@ -215,10 +210,6 @@ def resolve(
     config["eval_env_kwargs"] = evaluation
     config["normalize"] = _check_normalize(entry.pop("normalize", False))
     config["policy"] = entry.pop("policy", "MlpPolicy")
-    transform = entry.pop("action_transform", None)
-    if transform is not None and transform not in TRANSFORMS:
-        raise ValueError(f"action_transform must be one of {TRANSFORMS} or null")
-    config["action_transform"] = transform
     _check_algo_kwargs(algo, entry)
     config["hyperparams"] = entry
     return config
@@ -249,9 +240,11 @@ def _check_algo_kwargs(algo: str, kwargs: dict[str, Any]) -> None:
     activation = policy_kwargs.get("activation_fn")
     if activation is not None and activation not in ACTIVATIONS:
         raise ValueError(f"policy_kwargs.activation_fn must be one of {ACTIVATIONS}")
-    extractor = policy_kwargs.get("features_extractor_class")
-    if extractor is not None and extractor not in EXTRACTORS:
-        raise ValueError(f"policy_kwargs.features_extractor_class must be one of {EXTRACTORS}")
+    if "features_extractor_class" in policy_kwargs:
+        raise ValueError(
+            "policy_kwargs.features_extractor_class is not taken: a task's features are part "
+            "of its observation (the call-shot ids, impulse2d.envs.callshot)"
+        )
 
 
 class LinearSchedule:
@@ -285,11 +278,9 @@ def _schedule_start(key: str, value: Any) -> float | None:
 
 
 def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
-    """The constructor arguments of a resolved config, with the activation and the
-    features extractor, written by name, as classes, and ``lin_`` schedules as callables."""
+    """The constructor arguments of a resolved config, with the activation, written by
+    name, as a class, and ``lin_`` schedules as callables."""
     import torch.nn as nn
-
-    from ._features import EXTRACTORS as classes
 
     kwargs = copy.deepcopy(config["hyperparams"])
     for key in SCHEDULED:
@@ -300,9 +291,6 @@ def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     if isinstance(policy_kwargs.get("activation_fn"), str):
         names = {"tanh": nn.Tanh, "relu": nn.ReLU, "elu": nn.ELU, "leaky_relu": nn.LeakyReLU}
         policy_kwargs["activation_fn"] = names[policy_kwargs["activation_fn"]]
-    if isinstance(policy_kwargs.get("features_extractor_class"), str):
-        name = policy_kwargs["features_extractor_class"]
-        policy_kwargs["features_extractor_class"] = classes[name]
     return kwargs
 
 

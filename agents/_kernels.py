@@ -36,6 +36,7 @@ from typing import Any
 __all__ = [
     "PINNED",
     "add_kernels_option",
+    "hold_torch_threads",
     "one_torch_thread",
     "pin_torch_kernels",
     "x86_with_avx2",
@@ -83,28 +84,36 @@ def add_kernels_option(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def one_torch_thread() -> None:
-    """torch on one thread again (an engine step may have set OpenMP to every core)."""
+def hold_torch_threads(threads: int = 1) -> None:
+    """torch on ``threads`` threads again (an engine step may have set OpenMP to every
+    core)."""
     import torch
 
-    if torch.get_num_threads() != 1:
-        torch.set_num_threads(1)
+    if torch.get_num_threads() != threads:
+        torch.set_num_threads(threads)
 
 
-def torch_thread_callback() -> Any:
-    """An SB3 callback that keeps torch on one thread after every env step, so that the
-    policy's forward passes and the updates run as on any machine."""
+def one_torch_thread() -> None:
+    """torch on one thread again (``hold_torch_threads(1)``)."""
+    hold_torch_threads(1)
+
+
+def torch_thread_callback(threads: int = 1) -> Any:
+    """An SB3 callback that keeps torch on ``threads`` threads (default one) after every
+    env step, so that the policy's forward passes and the updates run as on any machine.
+    (``agents.train --torch-threads 2`` is one of the rounding variants of the README's
+    reproducibility check.)"""
     from stable_baselines3.common.callbacks import BaseCallback
 
-    class OneTorchThread(BaseCallback):
+    class HoldTorchThreads(BaseCallback):
         def _on_training_start(self) -> None:
-            one_torch_thread()
+            hold_torch_threads(threads)
 
         def _on_step(self) -> bool:
-            one_torch_thread()
+            hold_torch_threads(threads)
             return True
 
         def _on_rollout_end(self) -> None:
-            one_torch_thread()
+            hold_torch_threads(threads)
 
-    return OneTorchThread()
+    return HoldTorchThreads()

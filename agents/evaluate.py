@@ -1,12 +1,15 @@
 """Evaluate a trained agent beside the random and scripted players.
 
-    python -m agents.evaluate --run-dir runs/Pool2D-v0_ppo_seed0 [--episodes 100] [--seed 1000]
-    python -m agents.evaluate --summarize runs/Pool2D-v0_ppo_seed* [--out FILE] [--plot PNG]
+    python -m agents.evaluate --run-dir runs/Pool2DCallShot-v0_ppo_seed0 [--episodes N] [--seed S]
+    python -m agents.evaluate --summarize runs/Pool2DCallShot-v0_ppo_seed* [--out FILE] [--plot PNG]
 
 The three policies play the same seeded episodes (episode ``k`` starts from env seed
 ``seed + k``, on the env variant the agent was trained on), the trained agent acting
 deterministically and the random player from a generator seeded ``seed``, so running it
-twice gives the same numbers. Written to the run directory:
+twice gives the same numbers. The trained agent plays the id it trained on (a call-shot
+id: its own action and features); random and scripted play the game under it, with the
+same arguments, in the game's own action (``impulse2d.envs.base_game``): the same
+positions, the same rules and rewards. Written to the run directory:
 
 * ``results.json`` / ``results.md``: mean ± std over episodes of the reward and the task
   metrics (Pool: balls potted, fouls and scratches per shot; Slingshot: pigs and blocks
@@ -55,25 +58,17 @@ def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
             normalizer = pickle.load(file)
         normalizer.training = False
 
-    return agent_policy(model, config, normalizer), config
+    return agent_policy(model, normalizer), config
 
 
-def agent_policy(model: Any, config: dict[str, Any], normalizer: Any = None) -> _tasks.Policy:
-    """A trained SB3 model as a batch policy on the env's own actions: observations
-    (normalized if the run used ``VecNormalize``) -> the model's deterministic action ->
-    the config's action transform, if any."""
-    transform = None
-    if config.get("action_transform"):
-        from ._wrappers import TRANSFORMS
-
-        transform = TRANSFORMS[config["action_transform"]][1]
+def agent_policy(model: Any, normalizer: Any = None) -> _tasks.Policy:
+    """A trained SB3 model as a batch policy: observations (normalized if the run used
+    ``VecNormalize``) -> the model's deterministic actions."""
 
     def policy(obs: np.ndarray) -> np.ndarray:
         one_torch_thread()  # the env's step may have set OpenMP to every core
         seen = normalizer.normalize_obs(obs) if normalizer is not None else obs
         action, _ = model.predict(seen, deterministic=True)
-        if transform is not None:  # the policy's own action space -> the env's (raw obs)
-            action = transform(action, obs)
         return np.asarray(action, np.float32)
 
     return policy
@@ -107,20 +102,30 @@ def evaluate(
     run_dir = Path(run_dir)
     start = time.perf_counter()
     trained, config = load_policy(run_dir)
-    task = _tasks.task(config["env_id"])
+    from impulse2d.envs import base_game
+
+    game_id, game_kwargs = base_game(config["env_id"])
+    task = _tasks.task(game_id)
     trained_on = config["env_kwargs"]
     env_kwargs = {**trained_on, **config.get("eval_env_kwargs", {}), **(env_kwargs or {})}
     players = {"trained": trained, "random": random_policy(seed), "scripted": task.scripted}
     rows = {}
     for name, policy in players.items():
-        record = _tasks.play_episodes(task.env_id, env_kwargs, policy, episodes, seed)
+        # The agent on its own id; the others on the game under it, in the game's actions.
+        env_id, kwargs = (
+            (config["env_id"], env_kwargs)
+            if name == "trained"
+            else (game_id, {**game_kwargs, **_episode_limit(config["env_id"]), **env_kwargs})
+        )
+        record = _tasks.play_episodes(env_id, kwargs, policy, episodes, seed)
         rows[name] = _tasks.summarize(task, record)
     training = run_dir / "training.json"
     results: dict[str, Any] = {
-        "env_id": task.env_id,
+        "env_id": config["env_id"],
+        "game": task.env_id,
         "algo": config["algo"],
         "train_seed": config["seed"],
-        "entry": config.get("entry", task.env_id),
+        "entry": config.get("entry", config["env_id"]),
         "env_kwargs": env_kwargs,
         "train_env_kwargs": trained_on,
         "trained_timesteps": json.loads(training.read_text())["num_timesteps"]
@@ -137,7 +142,7 @@ def evaluate(
     _media.learning_curve(
         run_dir,
         run_dir / "learning_curve.png",
-        f"{config.get('entry', task.env_id)}: {config['algo'].upper()}, seed {config['seed']}",
+        f"{config.get('entry', config['env_id'])}: {config['algo'].upper()}, seed {config['seed']}",
         {
             f"random ({reward['random']:.2f})": reward["random"],
             f"scripted: {task.scripted_name} ({reward['scripted']:.2f})": reward["scripted"],
@@ -147,7 +152,7 @@ def evaluate(
     )
     if video is not None:
         frames = _media.record_video(
-            task.env_id, env_kwargs, trained, run_dir / f"agent.{video}", seed, video_shots
+            config["env_id"], env_kwargs, trained, run_dir / f"agent.{video}", seed, video_shots
         )
         results["video_frames"] = frames
     results["eval_seconds"] = round(time.perf_counter() - start, 1)
@@ -163,6 +168,17 @@ def _skip_before(run_dir: Path) -> int:
     ``_media.learning_curve``)."""
     config = _config.load_config(run_dir)
     return config["n_envs"] * _episode_cap(config["env_id"], config["env_kwargs"])
+
+
+def _episode_limit(env_id: str) -> dict[str, int]:
+    """``{"max_episode_steps": n}`` of a registered id, for playing the game under it with
+    the same episode length (empty if the id sets none)."""
+    import gymnasium as gym
+
+    import impulse2d  # noqa: F401  (registers the env ids)
+
+    steps = gym.spec(env_id).max_episode_steps
+    return {} if steps is None else {"max_episode_steps": int(steps)}
 
 
 def _episode_cap(env_id: str, env_kwargs: dict[str, Any]) -> int:

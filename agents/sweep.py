@@ -1,7 +1,7 @@
 """Sweeps over training seeds and hyperparameters, as trials of Ray Tune.
 
-    python -m agents.sweep --env Pool2D-v0 --algo ppo --seeds 0-7
-    python -m agents.sweep --env Pool2D-v0 --algo ppo --seeds 0-2 \\
+    python -m agents.sweep --env Pool2DCallShot-v0 --algo ppo --seeds 0-7
+    python -m agents.sweep --env Pool2DCallShot-v0 --algo ppo --seeds 0-2 \\
         --search learning_rate=3e-4,1e-3 gamma=0.5,0.9          # 3 seeds x 4 settings
     python -m agents.sweep ... --address auto                 # a cluster (`ray start`)
 
@@ -287,7 +287,9 @@ def build_parser() -> argparse.ArgumentParser:
         "(locally, or on a cluster with --address); one table and one plot over the trials.",
     )
     parser.add_argument(
-        "--env", default="Pool2D-v0", help="env id, or id/variant (default Pool2D-v0)"
+        "--env",
+        default=_config.DEFAULT_ENV,
+        help=f"env id, or id/variant (default {_config.DEFAULT_ENV})",
     )
     parser.add_argument("--algo", default="ppo", help="ppo or sac (default ppo)")
     parser.add_argument("--seeds", default="0-2", help="training seeds, e.g. 0-7 or 0,3,5")

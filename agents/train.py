@@ -1,8 +1,8 @@
-"""Train an agent on Pool2D-v0 or Slingshot2D-v0, RL Zoo style.
+"""Train an agent on an impulse2d task, RL Zoo style.
 
-    python -m agents.train --env Pool2D-v0 --algo ppo            # the defaults in ppo.yml
-    python -m agents.train --env Slingshot2D-v0 --algo sac --timesteps 5e4 --seed 1
-    python -m agents.train --env Pool2D-v0 --algo ppo --resume runs/Pool2D-v0_ppo_seed0/model.zip
+    python -m agents.train --env Pool2DCallShot-v0 --algo ppo    # the defaults in ppo.yml
+    python -m agents.train --env Slingshot2DCallShot-v0 --algo ppo --timesteps 5e4 --seed 1
+    python -m agents.train --resume runs/Pool2DCallShot-v0_ppo_seed0/model.zip
 
 The hyperparameters come from ``agents/hyperparams/<algo>.yml`` (or ``--config FILE``),
 keyed by env id; the command line overrides the budget (``--timesteps``), the number of
@@ -28,6 +28,7 @@ import shlex
 import shutil
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -38,27 +39,22 @@ DEFAULT_RUNS = Path("runs")
 
 
 def default_run_dir(entry: str, algo: str, seed: int) -> Path:
-    """``runs/<env>_<algo>_seed<k>``; an entry ``Pool2D-v0/full`` gives ``Pool2D-v0-full``."""
+    """``runs/<env>_<algo>_seed<k>``; an entry ``Pool2D-v0/long`` gives ``Pool2D-v0-long``."""
     return DEFAULT_RUNS / f"{entry.replace('/', '-')}_{algo}_seed{seed}"
 
 
 def make_vec_env(config: dict[str, Any], seed: int, monitor: Path | None = None) -> Any:
-    """The training env of a resolved config: the batched vector env as an SB3 ``VecEnv``
-    (env ``i`` seeded ``seed + i``), under ``VecMonitor`` (episode statistics for SB3's
-    logs, and ``monitor.csv`` when ``monitor`` is a directory) and the config's action
-    transform, if any."""
+    """The training env of a resolved config: the id's batched vector env as an SB3
+    ``VecEnv`` (env ``i`` seeded ``seed + i``), under ``VecMonitor`` (episode statistics
+    for SB3's logs, and ``monitor.csv`` when ``monitor`` is a directory). A call-shot id
+    brings its own action and features (``impulse2d.envs.callshot``)."""
     from stable_baselines3.common.vec_env import VecMonitor
 
     import impulse2d  # noqa: F401  (registers the env ids)
     from impulse2d.envs.sb3 import make_sb3_vec_env
 
     venv = make_sb3_vec_env(config["env_id"], config["n_envs"], seed=seed, **config["env_kwargs"])
-    venv = VecMonitor(venv, filename=str(monitor) if monitor is not None else None)
-    if config.get("action_transform"):
-        from ._wrappers import TransformAction
-
-        venv = TransformAction(venv, config["action_transform"])
-    return venv
+    return VecMonitor(venv, filename=str(monitor) if monitor is not None else None)
 
 
 def _check_evaluation_env(config: dict[str, Any]) -> None:
@@ -105,30 +101,46 @@ def _logger(run_dir: Path) -> tuple[Any, str]:
     return Logger(folder=str(run_dir), output_formats=formats), note
 
 
-def train(
+@dataclass
+class Experiment:
+    """A run being trained, as ``build`` sets it up (RL Zoo's ``ExperimentManager`` in
+    three steps: ``build``, ``learn``, ``save``)."""
+
+    config: dict[str, Any]
+    run_dir: Path
+    model: Any
+    venv: Any
+    logger: Any
+    previous_progress: Path | None  # a resumed run's earlier progress.csv, kept aside
+    torch_threads: int = 1
+    start_timesteps: int = 0
+    seconds: float = 0.0
+    interrupted: bool = False
+
+
+def build(
     config: dict[str, Any],
     run_dir: str | Path,
     *,
     resume: str | Path | None = None,
-    progress_bar: bool = True,
     command: str | None = None,
     verbose: int = 0,
-) -> Path:
-    """Train (or, with ``resume``, continue training) the agent of a resolved config
-    (``agents._config.resolve``) for ``config["n_timesteps"]`` more env steps; save
-    everything in ``run_dir`` and return it."""
+    torch_threads: int = 1,
+) -> Experiment:
+    """The model and its env for a resolved config (``agents._config.resolve``), or, with
+    ``resume``, the saved model loaded to go on; ``run_dir`` made and its config written."""
     import torch
     from stable_baselines3.common.utils import set_random_seed
 
     # Two cores, shared: one thread keeps torch off the core the physics needs, and makes
     # runs bitwise repeatable (held there after every env step: agents/_kernels.py).
-    torch.set_num_threads(1)
+    torch_threads = _config.positive_count("torch_threads", torch_threads)
+    torch.set_num_threads(torch_threads)
     run_dir = Path(run_dir)
     resume_path = _check_resume(resume)
     run_dir.mkdir(parents=True, exist_ok=True)
     cls = _config.algo_class(config["algo"])
     previous_progress = _prepare_run_dir(run_dir, resume_path)
-
     seed = config["seed"]
     set_random_seed(seed)
     _check_evaluation_env(config)
@@ -136,14 +148,8 @@ def train(
     stats = resume_path.parent / "vecnormalize.pkl" if resume_path is not None else None
     venv = _normalized(venv, config, stats)
     if resume_path is None:
-        model = cls(
-            config["policy"],
-            venv,
-            seed=seed,
-            device="cpu",
-            verbose=verbose,
-            **_config.algo_kwargs(config),
-        )
+        kwargs = _config.algo_kwargs(config)
+        model = cls(config["policy"], venv, seed=seed, device="cpu", verbose=verbose, **kwargs)
     else:
         # Loading with the env sizes the rollout buffer for this run's number of worlds.
         model = cls.load(str(resume_path), env=venv, device="cpu")
@@ -162,40 +168,52 @@ def train(
         f"worlds for {config['n_timesteps']:,} steps -> {run_dir} ({note})",
         flush=True,
     )
-    start, done = time.perf_counter(), model.num_timesteps
-    interrupted = False
-    # A terminal gets SB3's bar (its rate is shots/s); logs, CI and notebooks get lines.
+    return Experiment(config, run_dir, model, venv, logger, previous_progress, torch_threads)
+
+
+def learn(experiment: Experiment, *, progress_bar: bool = True, resumed: bool = False) -> None:
+    """Train for ``n_timesteps`` more steps, with progress shown (SB3's bar in a terminal,
+    plain lines elsewhere); Ctrl-C stops early and keeps what was learnt."""
     from ._progress import ProgressLines, wants_lines
 
+    model, config = experiment.model, experiment.config
     bar = progress_bar and not wants_lines() and _has_progress_bar()
-    callbacks = [torch_thread_callback()]
+    callbacks = [torch_thread_callback(experiment.torch_threads)]
     if progress_bar and not bar:
         callbacks.append(ProgressLines(config["n_timesteps"]))
+    experiment.start_timesteps = model.num_timesteps
+    start = time.perf_counter()
     try:
         model.learn(
             total_timesteps=config["n_timesteps"],
-            reset_num_timesteps=resume_path is None,
+            reset_num_timesteps=not resumed,
             progress_bar=bar,
             callback=callbacks,
         )
     except KeyboardInterrupt:  # keep what was learnt so far; --resume can go on
-        interrupted = True
+        experiment.interrupted = True
         print("interrupted: saving the model as it is", flush=True)
-    seconds = time.perf_counter() - start
+    experiment.seconds = time.perf_counter() - start
+
+
+def save(experiment: Experiment) -> Path:
+    """Write the model (and normalisation statistics), merge a resumed run's progress and
+    write ``training.json``; returns the run directory."""
+    model, run_dir, seconds = experiment.model, experiment.run_dir, experiment.seconds
     model.save(str(run_dir / "model.zip"))
-    if config["normalize"]:
-        venv.save(str(run_dir / "vecnormalize.pkl"))
-    logger.close()
-    venv.close()
-    if previous_progress is not None:
-        _merge_progress(previous_progress, run_dir / "progress.csv")
-    steps = int(model.num_timesteps - done)
+    if experiment.config["normalize"]:
+        experiment.venv.save(str(run_dir / "vecnormalize.pkl"))
+    experiment.logger.close()
+    experiment.venv.close()
+    if experiment.previous_progress is not None:
+        _merge_progress(experiment.previous_progress, run_dir / "progress.csv")
+    steps = int(model.num_timesteps - experiment.start_timesteps)
     summary = {
         "num_timesteps": int(model.num_timesteps),
         "steps_this_run": steps,
         "wall_seconds": round(seconds, 1),
         "steps_per_second": round(steps / max(seconds, 1e-9), 1),
-        "interrupted": interrupted,
+        "interrupted": experiment.interrupted,
         "torch_kernels": _torch_kernels(),
     }
     (run_dir / "training.json").write_text(json.dumps(summary, indent=2) + "\n")
@@ -205,6 +223,31 @@ def train(
         flush=True,
     )
     return run_dir
+
+
+def train(
+    config: dict[str, Any],
+    run_dir: str | Path,
+    *,
+    resume: str | Path | None = None,
+    progress_bar: bool = True,
+    command: str | None = None,
+    verbose: int = 0,
+    torch_threads: int = 1,
+) -> Path:
+    """Train (or, with ``resume``, continue training) the agent of a resolved config for
+    ``config["n_timesteps"]`` more env steps; save everything in ``run_dir`` and return it.
+    ``build``, ``learn`` and ``save`` in turn."""
+    experiment = build(
+        config,
+        run_dir,
+        resume=resume,
+        command=command,
+        verbose=verbose,
+        torch_threads=torch_threads,
+    )
+    learn(experiment, progress_bar=progress_bar, resumed=resume is not None)
+    return save(experiment)
 
 
 def _torch_kernels() -> dict[str, Any]:
@@ -282,11 +325,13 @@ def _has_progress_bar() -> bool:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m agents.train",
-        description="Train PPO or SAC on Pool2D-v0 / Slingshot2D-v0 (hyperparameters from "
+        description="Train PPO or SAC on an impulse2d env id (hyperparameters from "
         "agents/hyperparams/<algo>.yml), then evaluate the agent.",
     )
     parser.add_argument(
-        "--env", default=None, help="env id, or id/variant: a YAML entry (default Pool2D-v0)"
+        "--env",
+        default=None,
+        help=f"env id, or id/variant: a YAML entry (default {_config.DEFAULT_ENV})",
     )
     parser.add_argument("--algo", default=None, help="ppo or sac (default ppo)")
     parser.add_argument("--timesteps", default=None, help="env steps, e.g. 2e5 (default: YAML)")
@@ -316,7 +361,20 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--eval-episodes", type=int, default=100, help="episodes (default 100)")
     parser.add_argument("--eval-seed", type=int, default=1000, help="first episode seed")
+    parser.add_argument(
+        "--eval-video",
+        choices=("gif", "mp4", "none"),
+        default="gif",
+        help="the evaluation's video of the agent (default gif)",
+    )
     parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (default 0)")
+    parser.add_argument(
+        "--torch-threads",
+        type=int,
+        default=1,
+        help="torch's threads for the updates (default 1: runs repeat bitwise; another "
+        "count rounds differently)",
+    )
     add_kernels_option(parser)
     return parser
 
@@ -333,7 +391,7 @@ def main(argv: list[str] | None = None) -> Path:
         # arguments), not the YAML's, which may have changed since.
         saved = _check_resume(args.resume).parent / "config.yml"
         base = _config.load_config(saved.parent) if saved.is_file() else None
-    saved_entry = (base or {}).get("entry", (base or {}).get("env_id", "Pool2D-v0"))
+    saved_entry = (base or {}).get("entry", (base or {}).get("env_id", _config.DEFAULT_ENV))
     env_id = _config.check_env_id(args.env or saved_entry)
     algo = _config.check_algo(args.algo or (base or {}).get("algo", "ppo"))
     if base is not None and (saved_entry, base["algo"]) != (env_id, algo):
@@ -368,11 +426,13 @@ def main(argv: list[str] | None = None) -> Path:
         progress_bar=not args.no_progress_bar,
         command=command,
         verbose=args.verbose,
+        torch_threads=args.torch_threads,
     )
     if args.evaluate:
         from .evaluate import evaluate
 
-        evaluate(run_dir, episodes=args.eval_episodes, seed=args.eval_seed)
+        video = None if args.eval_video == "none" else args.eval_video
+        evaluate(run_dir, episodes=args.eval_episodes, seed=args.eval_seed, video=video)
         print(f"train + evaluate: {time.perf_counter() - start:.0f} s wall time", flush=True)
     return run_dir
 

@@ -8,7 +8,8 @@ that forces its portable path, so this machine can stand in for another kind:
 
 * torch (ATen's vectorised kernels): ``ATEN_CPU_CAPABILITY=default`` (no AVX2);
 * oneMKL, torch's matrix products on x86: ``MKL_CBWR=COMPATIBLE`` (its SSE2 path);
-* numpy (its SIMD loops): ``NPY_DISABLE_CPU_FEATURES=X86_V3`` (no AVX2);
+* numpy (its SIMD loops): ``NPY_DISABLE_CPU_FEATURES=X86_V3`` (no AVX2), and without its
+  AVX-512 loops (``X86_V4 AVX512_ICL AVX512_SPR``);
 * numba (the engine, compiled for the host CPU): ``NUMBA_CPU_NAME=generic``;
 * threads: the engine on one thread instead of two, torch on two instead of one.
 
@@ -17,7 +18,8 @@ picked for this CPU; the last case names them, as ``python -m agents.train`` doe
 
 Each case runs in a fresh process (numba's cache is shared, except by the case that
 changes the CPU name, which compiles other code): the engine alone (16 tables, 5 seeded
-random shots; a hash of every observation), then a short PPO run of the Pool entry (a
+random shots, and the 15-ball rack, 3 shots; a hash of every observation and reward,
+comparable across machines), then a short PPO run of the Pool entry (a
 hash of the trained weights, and its mean reward over 10 evaluation episodes). A case
 that matches the baseline shows that knob does not change results; one that differs
 shows it does.
@@ -50,15 +52,19 @@ from agents import _config, evaluate
 from agents.train import train
 
 engine_threads = None if sys.argv[3] == "all" else int(sys.argv[3])
-venv = gym.make_vec("Pool2D-v0", 16, vectorization_mode="vector_entry_point",
-                    num_balls=1, threads=engine_threads)
-digest = hashlib.sha256()
-obs, _ = venv.reset(seed=0)
-actions = np.random.default_rng(0).uniform(-1, 1, (5, 16, 2)).astype(np.float32)
-for a in actions:
-    obs, reward, *_ = venv.step(a)
-    digest.update(obs.tobytes()); digest.update(reward.tobytes())
-config = _config.resolve("ppo", "Pool2D-v0", timesteps=int(sys.argv[4]), num_envs=64, seed=0)
+def rollout(shots, kwargs, rng):
+    # sha256 of every observation and reward after the reset, first 16 hex digits
+    venv = gym.make_vec("Pool2D-v0", 16, vectorization_mode="vector_entry_point",
+                        threads=engine_threads, **kwargs)
+    digest = hashlib.sha256()
+    venv.reset(seed=0)
+    for a in np.random.default_rng(rng).uniform(-1, 1, (shots, 16, 2)).astype(np.float32):
+        obs, reward, *_ = venv.step(a)
+        digest.update(obs.tobytes()); digest.update(reward.tobytes())
+    return digest.hexdigest()[:16]
+one_ball, rack = rollout(5, {"num_balls": 1}, 0), rollout(3, {}, 1)
+config = _config.resolve("ppo", "Pool2DCallShot-v0", timesteps=int(sys.argv[4]), num_envs=64,
+                         seed=0)
 if engine_threads is not None:
     config["env_kwargs"]["threads"] = engine_threads
 run = train(config, sys.argv[1], progress_bar=False)
@@ -68,7 +74,7 @@ for p in model.policy.parameters():
     weights.update(p.detach().numpy().tobytes())
 results = evaluate.evaluate(run, episodes=10, video=None)
 print("RESULT " + json.dumps({
-    "engine": digest.hexdigest()[:12], "weights": weights.hexdigest()[:12],
+    "engine": one_ball, "rack": rack, "weights": weights.hexdigest()[:12],
     "reward": results["policies"]["trained"]["reward"]["mean"],
     "torch_capability": torch.backends.cpu.get_cpu_capability(),
 }))
@@ -83,6 +89,12 @@ CASES = [
     ("torch: ATEN_CPU_CAPABILITY=default", {"ATEN_CPU_CAPABILITY": "default"}, 1, "all"),
     ("MKL: MKL_CBWR=COMPATIBLE", {"MKL_CBWR": "COMPATIBLE"}, 1, "all"),
     ("numpy: NPY_DISABLE_CPU_FEATURES=X86_V3", {"NPY_DISABLE_CPU_FEATURES": "X86_V3"}, 1, "all"),
+    (
+        "numpy without AVX-512",
+        {"NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"},
+        1,
+        "all",
+    ),
     ("numba: NUMBA_CPU_NAME=generic", {"NUMBA_CPU_NAME": "generic"}, 1, "all"),
     # The kernels named, not picked for the CPU: what agents.train sets by default.
     ("named: ATEN_CPU_CAPABILITY=avx2 + MKL_CBWR=AVX2", PORTABLE, 1, "all"),
@@ -108,6 +120,19 @@ def run_case(
     return json.loads(lines[-1][len("RESULT ") :])
 
 
+def _cpu() -> str:
+    """The CPU's model name and its widest vector extension (Linux), for the table."""
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "CPU unknown"
+    model = next((line.split(":", 1)[1].strip() for line in text.splitlines()
+                  if line.startswith("model name")), "CPU unknown")  # fmt: skip
+    flags = next((line for line in text.splitlines() if line.startswith("flags")), "")
+    widest = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "no AVX2"
+    return f"{model} ({widest})"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=2048, help="PPO steps per case (2048)")
@@ -119,11 +144,16 @@ def main() -> None:
             rows.append((name, result))
             print(f"{name}: {result}", file=sys.stderr, flush=True)
     base = rows[0][1]
-    print(f"\n{args.steps:,} PPO steps on 64 tables, seed 0; evaluated on 10 episodes\n")
+    print(f"\n{args.steps:,} PPO steps on 64 tables, seed 0; evaluated on 10 episodes; {_cpu()}")
+    print(
+        f"engine rollouts (sha256 of observations and rewards, 16 hex digits): one ball "
+        f"{base['engine']}, rack {base['rack']}\n"
+    )
     print("| case | engine rollout | trained weights | reward | torch kernels |")
     print("|---|---|---|---|---|")
     for name, r in rows:
-        same_engine = "same" if r["engine"] == base["engine"] else "DIFFERS"
+        same = (r["engine"], r["rack"]) == (base["engine"], base["rack"])
+        same_engine = "same" if same else "DIFFERS"
         same_weights = "same" if r["weights"] == base["weights"] else "DIFFERS"
         print(
             f"| {name} | {same_engine} | {same_weights} | {r['reward']:.2f} | "

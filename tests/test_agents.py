@@ -33,13 +33,17 @@ TINY = {
     "sac": ["learning_starts=16", "gradient_steps=2", "batch_size=16", "buffer_size=500"],
 }
 EXPECTED_COLUMNS = {
-    "Pool2D-v0": ["reward / episode", "potted / episode", "potted / shot", "fouls / shot"],
-    "Slingshot2D-v0": ["reward / episode", "pigs destroyed / episode", "birds used / episode"],
+    "Pool2DCallShot-v0": ["reward / episode", "potted / episode", "potted / shot", "fouls / shot"],
+    "Slingshot2DCallShot-v0": [
+        "reward / episode",
+        "pigs destroyed / episode",
+        "birds used / episode",
+    ],
 }
 
 
 def _train(
-    run_dir: Path, env: str = "Pool2D-v0", algo: str = "ppo", steps: int = 64, *extra: str
+    run_dir: Path, env: str = "Pool2DCallShot-v0", algo: str = "ppo", steps: int = 64, *extra: str
 ) -> Path:
     argv = [
         "--env", env, "--algo", algo, "--timesteps", str(steps), "--num-envs", "4",
@@ -59,7 +63,7 @@ def _params(run_dir: Path, algo: str) -> list[np.ndarray]:
     return [p.detach().numpy().copy() for p in model.policy.parameters()]
 
 
-@pytest.mark.parametrize("env", ["Pool2D-v0", "Slingshot2D-v0"])
+@pytest.mark.parametrize("env", ["Pool2DCallShot-v0", "Slingshot2DCallShot-v0"])
 @pytest.mark.parametrize("algo", ["ppo", "sac"])
 def test_smoke_training_writes_the_run_directory(tmp_path: Path, env: str, algo: str) -> None:
     run_dir = _train(tmp_path / "run", env, algo, 64)
@@ -67,10 +71,8 @@ def test_smoke_training_writes_the_run_directory(tmp_path: Path, env: str, algo:
         assert (run_dir / name).is_file(), name
     config = yaml.safe_load((run_dir / "config.yml").read_text())
     assert config["env_id"] == env and config["algo"] == algo and config["n_envs"] == 4
-    # The YAML's env arguments, with the command line's on top.
-    assert config["env_kwargs"]["max_shot_seconds"] == 2.0
-    expected = {"Pool2D-v0": ("num_balls", 1), "Slingshot2D-v0": ("level", "handmade")}[env]
-    assert config["env_kwargs"][expected[0]] == expected[1]
+    # The YAML's env arguments (none: the id has its own), with the command line's on top.
+    assert config["env_kwargs"] == {"max_shot_seconds": 2.0}
     assert config["hyperparams"]["batch_size"] == 16
     command = (run_dir / "command.txt").read_text()
     assert command.startswith("python -m agents.train ") and f"--algo {algo}" in command
@@ -95,7 +97,7 @@ def test_smoke_training_writes_the_run_directory(tmp_path: Path, env: str, algo:
 def test_same_seed_trains_the_same_network(tmp_path: Path) -> None:
     a = _params(_train(tmp_path / "a", steps=32), "ppo")
     b = _params(_train(tmp_path / "b", steps=32), "ppo")
-    c = _params(_train(tmp_path / "c", "Pool2D-v0", "ppo", 32, "--seed", "1"), "ppo")
+    c = _params(_train(tmp_path / "c", "Pool2DCallShot-v0", "ppo", 32, "--seed", "1"), "ppo")
     assert all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
     assert not all(np.array_equal(x, z) for x, z in zip(a, c, strict=True))
 
@@ -146,7 +148,8 @@ def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]
     assert scripted["potted"]["mean"] > random["potted"]["mean"]
     table = (run_dir / "results.md").read_text().splitlines()
     header = next(line for line in table if line.startswith("| policy |"))
-    assert [c.strip() for c in header.strip("|").split("|")][1:5] == EXPECTED_COLUMNS["Pool2D-v0"]
+    columns = [c.strip() for c in header.strip("|").split("|")][1:5]
+    assert columns == EXPECTED_COLUMNS["Pool2DCallShot-v0"]
     rows = [line for line in table if line.startswith("| ") and "---" not in line][1:]
     assert [r.split("|")[1].strip() for r in rows] == [
         "trained PPO", "random", "scripted (ghost ball)",
@@ -185,10 +188,10 @@ def test_summary_over_runs(evaluated: tuple[Path, Any], tmp_path: Path) -> None:
 
 
 def test_slingshot_metrics_in_the_table(tmp_path: Path) -> None:
-    run_dir = _train(tmp_path / "run", "Slingshot2D-v0", "ppo", 32)
+    run_dir = _train(tmp_path / "run", "Slingshot2DCallShot-v0", "ppo", 32)
     results = evaluate.evaluate(run_dir, episodes=3, seed=0, video=None)
     labels = [spec["label"] for spec in results["metrics"].values()]
-    assert all(label in labels for label in EXPECTED_COLUMNS["Slingshot2D-v0"])
+    assert all(label in labels for label in EXPECTED_COLUMNS["Slingshot2DCallShot-v0"])
     for row in results["policies"].values():
         # Three birds: an episode uses one to three of them (it ends when a level is clear).
         assert 1.0 <= row["birds_used"]["mean"] <= 3.0
@@ -244,7 +247,9 @@ def test_bad_training_input_names_the_parameter(
 
 def test_linear_schedule_falls_from_its_start_to_zero(tmp_path: Path) -> None:
     config = _config.resolve(
-        "ppo", "Pool2D-v0", overrides={"learning_rate": "lin_1e-3", "clip_range": "lin_0.2"}
+        "ppo",
+        "Pool2DCallShot-v0",
+        overrides={"learning_rate": "lin_1e-3", "clip_range": "lin_0.2"},
     )
     assert config["hyperparams"]["learning_rate"] == "lin_1e-3"  # plain YAML in config.yml
     kwargs = _config.algo_kwargs(config)
@@ -254,7 +259,7 @@ def test_linear_schedule_falls_from_its_start_to_zero(tmp_path: Path) -> None:
     # In training, SB3 applies it at each update: 64 steps of 4 worlds x n_steps 8 are two
     # updates, after 32 steps (progress left 0.5) and after 64 (0). progress.csv logs an
     # update's values in the row written after it: the first update's rate, 5e-4.
-    run = _train(tmp_path / "run", "Pool2D-v0", "ppo", 64, "learning_rate=lin_1e-3")
+    run = _train(tmp_path / "run", "Pool2DCallShot-v0", "ppo", 64, "learning_rate=lin_1e-3")
     logged = [row["train/learning_rate"] for row in _progress(run)]
     assert [float(value) for value in logged if value] == [5e-4]
     assert yaml.safe_load((run / "config.yml").read_text())["hyperparams"]["learning_rate"] == (
@@ -265,18 +270,20 @@ def test_linear_schedule_falls_from_its_start_to_zero(tmp_path: Path) -> None:
 @pytest.mark.parametrize("value", ["lin_-1", "lin_x", "exp_1e-3", 0, -0.1, True])
 def test_bad_schedule_names_the_key_and_rule(value: Any) -> None:
     with pytest.raises(ValueError, match=r"^learning_rate must be"):
-        _config.resolve("ppo", "Pool2D-v0", overrides={"learning_rate": value})
+        _config.resolve("ppo", "Pool2DCallShot-v0", overrides={"learning_rate": value})
 
 
 def test_resume_refuses_another_algorithm(tmp_path: Path) -> None:
     first = _train(tmp_path / "run", steps=32)
-    with pytest.raises(ValueError, match=r"^resume: the model is ppo on Pool2D-v0, not sac"):
+    with pytest.raises(
+        ValueError, match=r"^resume: the model is ppo on Pool2DCallShot-v0, not sac"
+    ):
         train.main(["--resume", str(first), "--algo", "sac", "--no-evaluate"])
 
 
 def test_bad_env_kwargs_fail_in_the_env(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="num_balls"):
-        _train(tmp_path / "run", "Pool2D-v0", "ppo", 16, "--env-kwargs", '{"num_balls": 0}')
+        _train(tmp_path / "run", "Pool2DCallShot-v0", "ppo", 16, "--env-kwargs", '{"num_balls": 0}')
 
 
 def test_bad_evaluation_input(tmp_path: Path, evaluated: tuple[Path, Any]) -> None:
@@ -320,11 +327,12 @@ def _escape(text: str) -> str:
     return re.escape(text)
 
 
+VARIANT = "Slingshot2DGeneratedCallShot-v0/small"
 VARIANT_YAML = """
-Slingshot2D-v0/generated:
+Slingshot2DGeneratedCallShot-v0/small:
   n_timesteps: 32
   n_envs: 4
-  env_kwargs: {level: random, num_levels: 10}
+  env_kwargs: {num_levels: 10}
   eval_env_kwargs: {start_level: 1000}
   policy: MlpPolicy
   n_steps: 8
@@ -335,12 +343,12 @@ Slingshot2D-v0/generated:
 def test_variant_entries_name_their_env_and_run_directory(tmp_path: Path) -> None:
     path = tmp_path / "ppo.yml"
     path.write_text(VARIANT_YAML)
-    config = _config.resolve("ppo", "Slingshot2D-v0/generated", config_file=path)
-    assert config["env_id"] == "Slingshot2D-v0" and config["entry"] == "Slingshot2D-v0/generated"
-    assert config["env_kwargs"] == {"level": "random", "num_levels": 10}
+    config = _config.resolve("ppo", VARIANT, config_file=path)
+    assert config["env_id"] == "Slingshot2DGeneratedCallShot-v0" and config["entry"] == VARIANT
+    assert config["env_kwargs"] == {"num_levels": 10}
     assert config["eval_env_kwargs"] == {"start_level": 1000}
     assert train.default_run_dir(config["entry"], "ppo", 3) == Path(
-        "runs/Slingshot2D-v0-generated_ppo_seed3"
+        "runs/Slingshot2DGeneratedCallShot-v0-small_ppo_seed3"
     )
     for bad in ("Pong-v0/generated", "Slingshot2D-v0/", "Slingshot2D-v0/a b", 7):
         with pytest.raises(ValueError, match=r"^env must be one of .* followed by /<variant>"):
@@ -349,8 +357,7 @@ def test_variant_entries_name_their_env_and_run_directory(tmp_path: Path) -> Non
         _config.resolve("ppo", "Slingshot2D-v0/other", config_file=path)
     with pytest.raises(ValueError, match=r"^eval_env_kwargs must be a mapping"):
         _config.resolve(
-            "ppo", "Slingshot2D-v0/generated", config_file=path,
-            overrides={"eval_env_kwargs": [1]},
+            "ppo", VARIANT, config_file=path, overrides={"eval_env_kwargs": [1]},
         )  # fmt: skip
 
 
@@ -361,21 +368,21 @@ def test_evaluation_plays_the_eval_env_kwargs_over_the_training_ones(tmp_path: P
 
     path = tmp_path / "ppo.yml"
     path.write_text(VARIANT_YAML)
-    run_dir = _train(tmp_path / "run", "Slingshot2D-v0/generated", "ppo", 32, "--config", str(path))
-    assert yaml.safe_load((run_dir / "config.yml").read_text())["entry"] == (
-        "Slingshot2D-v0/generated"
-    )
+    run_dir = _train(tmp_path / "run", VARIANT, "ppo", 32, "--config", str(path))
+    assert yaml.safe_load((run_dir / "config.yml").read_text())["entry"] == VARIANT
     results = evaluate.evaluate(
         run_dir, episodes=3, seed=5, video=None, env_kwargs={"num_birds": 1}
     )
-    trained_on = {"level": "random", "num_levels": 10, **json.loads(SHORT)}
+    trained_on = {"num_levels": 10, **json.loads(SHORT)}
     played = {**trained_on, "start_level": 1000, "num_birds": 1}
     assert results["env_kwargs"] == played
     assert results["train_env_kwargs"] == trained_on
-    assert results["entry"] == "Slingshot2D-v0/generated"
-    # The scripted row is that of the held-out levels with one bird, not the training ones.
+    assert results["entry"] == VARIANT
+    # The scripted row is that of the held-out levels with one bird, not the training ones:
+    # the game under the id, its arguments and episode length, with those on top.
+    game = {"level": "random", "max_episode_steps": 10, **played}
     direct = summarize(task("Slingshot2D-v0"), play_episodes(
-        "Slingshot2D-v0", played, slingshot_ballistic, 3, 5
+        "Slingshot2D-v0", game, slingshot_ballistic, 3, 5
     ))  # fmt: skip
     assert results["policies"]["scripted"] == direct
     assert results["policies"]["scripted"]["birds_used"]["mean"] == 1.0
@@ -385,7 +392,7 @@ def test_bad_evaluation_env_kwargs_fail_before_training(tmp_path: Path) -> None:
     path = tmp_path / "ppo.yml"
     path.write_text(VARIANT_YAML.replace("start_level: 1000", "start_level: -1"))
     with pytest.raises(ValueError, match=r"^start_level must be an int >= 0, got -1"):
-        _train(tmp_path / "run", "Slingshot2D-v0/generated", "ppo", 32, "--config", str(path))
+        _train(tmp_path / "run", VARIANT, "ppo", 32, "--config", str(path))
     assert not (tmp_path / "run" / "model.zip").exists()
     with pytest.raises(ValueError, match=r"^env_kwargs must be a mapping"):
         evaluate.evaluate(tmp_path, env_kwargs=[("level", "random")])

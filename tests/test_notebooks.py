@@ -100,11 +100,11 @@ def test_training_notebook_runs_on_a_tiny_budget(
     for player in ("trained PPO", "random", "ghost ball (scripted)"):
         assert re.search(rf"^\| {re.escape(player)} \| -?\d", text, re.MULTILINE), text
     assert "4 episodes each" in text
-    # It trains with ppo.yml's tuned entry (the aids included), not a copy of old settings.
+    # It trains the call-shot task with ppo.yml's tuned entry, not a copy of old settings.
     from agents import resolve
 
-    transform = resolve("ppo", "Pool2D-v0")["action_transform"]
-    assert f"action_transform: {transform}" in text and "n_steps: 1" in text, text
+    n_steps = resolve("ppo", "Pool2DCallShot-v0")["hyperparams"]["n_steps"]
+    assert "env_id: Pool2DCallShot-v0" in text and f"n_steps: {n_steps}" in text, text
     # Its own tally of the episodes counts the pots (the ghost-ball player pots each ball
     # of these four tables with its first shot): the shot that ends an episode counts.
     ghost = re.search(

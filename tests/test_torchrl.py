@@ -15,8 +15,9 @@ from torchrl.envs.utils import check_env_specs
 import impulse2d  # noqa: F401  (registers the ids)
 
 
-def test_gym_env_on_an_id_plays_an_episode_to_its_end():
-    env = GymEnv("Pool2DOneBall-v0")
+@pytest.mark.parametrize("env_id", ["Pool2DOneBall-v0", "Pool2DCallShot-v0"])
+def test_gym_env_on_an_id_plays_an_episode_to_its_end(env_id):
+    env = GymEnv(env_id)
     check_env_specs(env)
     torch.manual_seed(0)
     rollout = env.rollout(20)  # stops at the episode's end: five shots at most
@@ -24,9 +25,10 @@ def test_gym_env_on_an_id_plays_an_episode_to_its_end():
     assert torch.isfinite(rollout["next", "observation"]).all()
 
 
+@pytest.mark.parametrize("env_id", ["Pool2DOneBall-v0", "Pool2DCallShot-v0"])
 @pytest.mark.parametrize("mode", [AutoresetMode.DISABLED, AutoresetMode.SAME_STEP])
-def test_gym_wrapper_on_the_batched_vector_env_goes_through_resets(mode):
-    venv = gym.make_vec("Pool2DOneBall-v0", 4, vectorization_mode="vector_entry_point",
+def test_gym_wrapper_on_the_batched_vector_env_goes_through_resets(env_id, mode):
+    venv = gym.make_vec(env_id, 4, vectorization_mode="vector_entry_point",
                         autoreset_mode=mode)  # fmt: skip
     env = GymWrapper(venv)
     assert tuple(env.batch_size) == (4,)
