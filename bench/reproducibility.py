@@ -1,10 +1,9 @@
 """What makes a training run repeat bitwise, and what makes it part: one knob at a time.
 
-A fresh clone on another machine, with the same torch 2.13.0 build, scored 0.63 on seed 0
-where this project's table said 0.55. Same code, same seed, same library versions: what
-differs between machines is the CPU, and with it the kernels the libraries pick for it.
-Each library here picks kernels by instruction set at run time, and each has a switch
-that forces its portable path, so this machine can stand in for another kind:
+Same code, same seed, same library versions: what differs between two machines is the
+CPU, and with it the kernels the libraries pick for it. Each library here picks kernels by
+instruction set at run time, and each has a switch that forces its portable path, so this
+machine can stand in for another kind:
 
 * torch (ATen's vectorised kernels): ``ATEN_CPU_CAPABILITY=default`` (no AVX2);
 * oneMKL, torch's matrix products on x86: ``MKL_CBWR=COMPATIBLE`` (its SSE2 path);
