@@ -14,7 +14,10 @@ in four families, each checked for the laws that apply to it (``tests/scene_laws
 * ``free``: dynamic bodies only, no planes, gravity or springs, sleeping off: linear and
   angular momentum kept to 1e-9 of their scale (beyond what impacts may exert,
   ``scene_laws.impact_torque_bound``: none without bounces or two discs);
-* ``free boxes``: the same with boxes only, and springs.
+* ``free boxes``: the same with boxes only, and springs;
+* ``edge``: scenes made to leave the envelope by themselves (restitution 1-2, kinematic
+  pushers, two or three planes, overlapping starts): every step finite, and a refused
+  step (``EnvelopeError``) leaves the state bitwise as it was.
 
 Run: ``python bench/fuzz_scenes.py --scenes 10000`` (about 3 minutes here; Ctrl-C
 prints what it has so far). Prints a progress line every few seconds (also into a log),
@@ -81,6 +84,7 @@ class Tally:
             "conservative": ["finite", "energy"],
             "free": ["finite", "linear momentum", "angular momentum"],
             "free boxes": ["finite", "linear momentum", "angular momentum"],
+            "edge": ["finite", "refusal changes nothing", laws.LEFT_THE_ENVELOPE],
         }
         for family, names in laws_of.items():
             for law in names:

@@ -13,7 +13,8 @@ two consecutive variants is a stage's own cost. The stages, in the step's order:
 5. contact preparation (``contacts.count_dormant``, the spring stability test when the
    world has springs, ``contacts.carry_impulses``, ``contacts.prepare``)
 6. substeps (``pipeline.substeps``: integration, warm start, solve, relax; restitution)
-7. finish (``pipeline.finish``: store contacts, events, forces, sleep, sensors, clock)
+7. finish (``projection.project_out_of_planes``, ``pipeline.finish``: store contacts,
+   events, forces, sleep, sensors, clock; ``refusal.leaves_envelope``)
 
 A world at rest takes ``pipeline.rest_step`` in the full variant only. Before every
 timed repeat the kernel restores each world from the copy (variant 0 does only that, and
@@ -63,6 +64,8 @@ from impulse2d.broadphase import find_pairs
 from impulse2d.contacts import carry_impulses, count_dormant, prepare
 from impulse2d.integrate import spring_stability, step_terms
 from impulse2d.narrowphase import find_points
+from impulse2d.projection import project_out_of_planes
+from impulse2d.refusal import leaves_envelope
 from impulse2d.runner import available_threads
 from impulse2d.sleep import wake_touched
 from impulse2d.state import AWAKE, DYNAMIC, ENABLED, PLANE, WorldState
@@ -172,7 +175,9 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     pipeline.substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
     if stages == 6:
         return n
+    project_out_of_planes(body, shapes, w, points, ids, n)
     pipeline.finish(state, shapes, ends, sensors, w, ctx, scratch, n)
+    leaves_envelope(body, body_i, shapes, w)
     return n
 
 

@@ -541,7 +541,8 @@ def test_wide_scenes_obey_every_law(family, data):
     """Scenes from the whole envelope (``scenes_random.WIDE``: 3 mm to 20 m, masses 1 mg
     to 1000 t, up to 6 decades apart, speeds to 200 m/s, dt 0.1 ms to 0.1 s), 100 steps,
     every law of their family (``scene_laws.check``: finite, batch == single, snapshot
-    replay; planes; energy; momentum). ``bench/fuzz_scenes.py`` runs thousands."""
+    replay; planes; energy; momentum; edge: a refused step changes nothing).
+    ``bench/fuzz_scenes.py`` runs thousands."""
     scene = data.draw(sr.scenes(wide=True, **laws.FAMILIES[family]))
     note(sr.code(scene))
     broken = laws.check(family, scene, STEPS)

@@ -17,6 +17,7 @@ says so on stderr while it does; ``IMPULSE2D_QUIET=1`` silences it.
 """
 
 from . import _compile_notice
+from .envelope import EnvelopeError
 from .readouts import ContactPoints, Energy
 from .sensors import Sensor
 from .shapes import Body, Box, Circle, Plane
@@ -29,6 +30,7 @@ __all__ = [
     "Circle",
     "ContactPoints",
     "Energy",
+    "EnvelopeError",
     "Plane",
     "Sensor",
     "Snapshot",

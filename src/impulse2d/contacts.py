@@ -398,4 +398,8 @@ def store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged,
             contact[w, j, column] = merged[j, column]
         for column in range(CONTACT_I):
             contact_i[w, j, column] = merged_ids[j, column]
+    # Rows past the count stay zero (state.py), so a world is its first rows alone: the
+    # undo of a refused call (refusal.py) saves and puts back only those.
+    contact[w, m:cached] = 0.0
+    contact_i[w, m:cached] = 0
     world_i[w, CONTACT_COUNT] = m

@@ -32,9 +32,13 @@ dimensionless): an exponential decay faster than that is already complete within
 shortest step. Restitution is at most ``RESTITUTION`` (2: above 1 adds energy, on purpose)
 and friction at most ``FRICTION`` (100).
 
-Bodies can still leave the envelope by themselves (a body falling for a day, a spring
-set spinning): the guarantee is about scenes whose values stay inside it, and such a run
-still gives finite numbers for far longer than any episode.
+Bodies can still drive themselves out of it: restitution above 1 pumps energy into
+every bounce, a kinematic body can squeeze a light one into a wedge of planes, a body can
+fall for a day. Every step ends by checking the moving bodies of each world (their
+position, speed and angular speed, ``refusal.leaves_envelope``); a world that left
+refuses the step with ``EnvelopeError``, naming the world, the body and the quantity, and
+the call changes nothing (every world of the batch is as it was before it). A scene
+therefore never turns to NaN: it stops, with a reason, at the edge.
 """
 
 from __future__ import annotations
@@ -49,3 +53,13 @@ DT = (1e-6, 1.0)  # s
 RATE = 1e6  # 1/s (drags), Hz (contact stiffness), or dimensionless (damping ratio)
 RESTITUTION = 2.0
 FRICTION = 100.0
+
+
+class EnvelopeError(ValueError):
+    """A world left the envelope during a step; the step was refused and the call changed
+    nothing. ``world`` and ``body`` are the world's index and the body's slot,
+    ``quantity`` is ``"speed"``, ``"angular speed"``, ``"position"`` or ``"not finite"``."""
+
+    def __init__(self, message: str, *, world: int, body: int, quantity: str) -> None:
+        super().__init__(message)
+        self.world, self.body, self.quantity = world, body, quantity

@@ -63,6 +63,8 @@ def forget_contacts(contact, contact_i, world_i, w, slot) -> None:
             contact[w, m, :] = contact[w, j, :]
             contact_i[w, m, :] = contact_i[w, j, :]
         m += 1
+    contact[w, m : world_i[w, CONTACT_COUNT]] = 0.0  # rows past the count stay zero
+    contact_i[w, m : world_i[w, CONTACT_COUNT]] = 0
     world_i[w, CONTACT_COUNT] = m
 
 

@@ -7,7 +7,7 @@
     velocities (gravity, forces, drag, rolling, springs) -> warm start -> solve ->
     integrate positions -> relax] -> restitution -> bodies deep in planes moved out ->
     store contacts, first contacts and damage -> clear forces -> sleep -> broken bodies
-    -> sensors -> clock
+    -> sensors -> clock -> the envelope check (``refusal``)
 
 ``advance_world`` repeats it for one world, up to a number of steps or until the world
 is at rest (a shot runs in one compiled call); ``advance`` and ``advance_parallel`` do
@@ -19,6 +19,11 @@ A step that finds more pairs or points than the scratch rows hold stops *before 
 changes the world* (waking aside, which the retried step would do too) and asks for
 room in its plan row; ``run`` grows the arrays and calls again, and the world carries
 on exactly where it stood.
+
+A step can also be refused: a spring too stiff for the substep (found before the world
+changes) or a world that left the envelope (found at the end of the step). Each world's
+first step in a call saves what steps write (``refusal.save_world``), so that the runner
+can put every world back when any of them is refused: a refused call changes nothing.
 """
 
 from __future__ import annotations
@@ -41,6 +46,7 @@ from .integrate import (
 )
 from .narrowphase import find_points
 from .projection import project_out_of_planes
+from .refusal import leaves_envelope, save_world
 from .sleep import update_sleep, wake_touched
 from .solver import restitution, solve, warm_start
 from .state import (
@@ -63,11 +69,14 @@ from .state import (
 )
 from .workspace import MOVING, views
 
-# A run's plan: one row per world it steps.
-PLAN_WORLD, PLAN_STEPS, PLAN_STATUS, NEED_PAIRS, NEED_POINTS, BAD_SPRING = range(6)
-PLAN_COLUMNS = 6
-# Statuses.
-RUNNING, NEEDS_ROOM, UNSTABLE_SPRING, FAST_SPRING = 0, 1, 2, 3
+# A run's plan: one row per world it steps. BAD_SLOT is the refused spring or body,
+# BAD_WHAT what took a body out of the envelope (refusal.SPEED, ...), SAVED 1 once the
+# world's undo rows hold it as it was before the call.
+PLAN_WORLD, PLAN_STEPS, PLAN_STATUS, NEED_PAIRS, NEED_POINTS = range(5)
+BAD_SLOT, BAD_WHAT, SAVED = 5, 6, 7
+PLAN_COLUMNS = 8
+# Statuses; from UNSTABLE_SPRING on, the world was refused.
+RUNNING, NEEDS_ROOM, UNSTABLE_SPRING, FAST_SPRING, LEFT_ENVELOPE = 0, 1, 2, 3, 4
 
 
 @kernel
@@ -193,25 +202,33 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         measure = np.zeros(2)
         worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
         if worst >= 0:
-            plan_row[BAD_SPRING] = worst
+            plan_row[BAD_SLOT] = worst
             return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
     project_out_of_planes(body, shapes, w, points, ids, n)
     finish(state, shapes, ends, sensors, w, ctx, scratch, n)
+    slot, what = leaves_envelope(body, body_i, shapes, w)
+    if slot >= 0:
+        plan_row[BAD_SLOT], plan_row[BAD_WHAT] = slot, what
+        return LEFT_ENVELOPE
     return RUNNING
 
 
 @kernel
-def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, ints, pairs):
+def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, ints, pairs, undo):
     """Step the world of plan row ``j`` until it has taken ``max_steps`` steps in this run
     (or, with ``until_rest``, is at rest), or a step cannot go on. ``pairs`` is the
-    capacity of the scratch rows' pair arrays."""
+    capacity of the scratch rows' pair arrays; ``undo`` the runner's undo rows, which
+    hold the world as it was before its first step in the call."""
     body, body_i, contact = state[0], state[1], state[4]
     w = plan[j, PLAN_WORLD]
     scratch = views(floats, ints, body.shape[1], contact.shape[1], pairs)
     shapes = layout[: body.shape[1]]
+    if plan[j, SAVED] == 0:
+        save_world(state, shapes, undo, w)
+        plan[j, SAVED] = 1
     while plan[j, PLAN_STEPS] < max_steps:
         if until_rest and at_rest(body_i, shapes, w):
             return
@@ -225,7 +242,7 @@ def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, in
 @kernel
 def advance(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs,
+    max_steps, until_rest, floats, ints, pairs, undo,
 ) -> int:  # fmt: skip
     """``advance_world`` for every row of the plan, one after the other; returns the
     largest status (``RUNNING``: every world went as far as asked)."""
@@ -234,16 +251,19 @@ def advance(
     for j in range(plan.shape[0]):
         if plan[j, PLAN_STATUS] == RUNNING:
             advance_world(
-                state, layout, ctx, plan, j, max_steps, until_rest, floats[0], ints[0], pairs
-            )
+                state, layout, ctx, plan, j, max_steps, until_rest, floats[0], ints[0], pairs,
+                undo,
+            )  # fmt: skip
         worst = max(worst, plan[j, PLAN_STATUS])
+        if worst >= UNSTABLE_SPRING:  # the call is refused: the rest need not step
+            return worst
     return worst
 
 
 @parallel_kernel
 def advance_parallel(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs,
+    max_steps, until_rest, floats, ints, pairs, undo,
 ) -> None:  # fmt: skip
     """``advance`` with the plan's rows split into as many chunks as there are scratch
     rows, the chunks spread over threads (each chunk steps its worlds in order)."""
@@ -253,8 +273,9 @@ def advance_parallel(
         for j in range(c * rows // chunks, (c + 1) * rows // chunks):
             if plan[j, PLAN_STATUS] == RUNNING:
                 advance_world(
-                    state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c], pairs
-                )
+                    state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c],
+                    pairs, undo,
+                )  # fmt: skip
 
 
 if not JIT_DISABLED:

@@ -10,6 +10,11 @@ hold stops before its step changes anything and says how many it needs; the runn
 grows the arrays and calls again, and that world carries on where it stood, exactly as
 if the room had been there from the start.
 
+*Refusals.* When a world is refused (a spring too stiff, a world out of the envelope:
+``pipeline``), the runner puts every world of the call back as it was before it
+(``refusal.restore``, from the undo rows each world's first step filled) and returns the
+plan, whose refused row says why; ``World`` raises.
+
 *Threads and fork.* numba's OpenMP layer (GNU libgomp, the default where installed)
 cannot run threads in a child process forked after it started them; numba aborts the
 child. A process forked after impulse2d ran threads (SB3's ``SubprocVecEnv`` with
@@ -28,7 +33,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from . import pipeline
+from . import pipeline, refusal
 from ._jit import JIT_DISABLED
 from .state import WorldState, grown
 from .workspace import Workspace
@@ -69,6 +74,9 @@ class Runner:
         self._scratch_rows: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 0)), np.zeros((0, 0)))
         self._every = np.zeros(0, np.int64)
         self._every_plan = np.zeros((0, pipeline.PLAN_COLUMNS), np.int64)
+        self._undo = np.zeros((0, 0))
+        self._undo_for: tuple[np.ndarray | None, np.ndarray | None] = (None, None)
+        self._undo_contacts = 0
 
     def run(
         self,
@@ -80,20 +88,44 @@ class Runner:
         until_rest: bool,
     ) -> np.ndarray:
         """Step ``worlds`` up to ``max_steps`` times each (until at rest, if asked).
-        Returns the plan: per world its index, the steps it took and its status
-        (``pipeline.UNSTABLE_SPRING`` for a world stopped by a spring too stiff)."""
+        Returns the plan: per world its index, the steps it took and its status. When a
+        world was refused (a status from ``pipeline.UNSTABLE_SPRING`` on), every world
+        is back as it was before the call."""
         plan = self._plan(worlds)
         if plan.shape[0] == 0:
             return plan
-        status = self._call(state, layout, ctx, plan, max_steps, until_rest)
+        undo = self._undo_rows(state)
+        status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo)
         while status != pipeline.RUNNING:
-            short = plan[:, pipeline.PLAN_STATUS] == pipeline.NEEDS_ROOM
-            if not short.any():
+            if status >= pipeline.UNSTABLE_SPRING:
+                self._undo_call(state, layout, plan, undo)
                 break
+            short = plan[:, pipeline.PLAN_STATUS] == pipeline.NEEDS_ROOM
             self._make_room(state, plan[short])
             plan[short, pipeline.PLAN_STATUS] = pipeline.RUNNING
-            status = self._call(state, layout, ctx, plan, max_steps, until_rest)
+            status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo)
         return plan
+
+    def _undo_call(
+        self, state: WorldState, layout: Any, plan: np.ndarray, undo: np.ndarray
+    ) -> None:
+        """Every world the call stepped back as it was, and the contact arrays back to
+        the capacity they had (a world may have grown them before one was refused)."""
+        capacity = self._undo_contacts
+        if state.contact_capacity > capacity:
+            state.contact = state.contact[:, :capacity].copy()
+            state.contact_i = state.contact_i[:, :capacity].copy()
+        stepped = plan[plan[:, pipeline.SAVED] == 1, pipeline.PLAN_WORLD]
+        refusal.restore(*state.arrays().values(), layout.rows, undo, stepped)
+
+    def _undo_rows(self, state: WorldState) -> np.ndarray:
+        """The undo rows for a call on ``state``, kept while its body and contact arrays
+        are the same objects (they are replaced when they grow)."""
+        if state.body is not self._undo_for[0] or state.contact is not self._undo_for[1]:
+            batch, bodies, contacts = *state.body.shape[:2], state.contact_capacity
+            self._undo = np.empty((batch, sum(refusal.undo_sizes(bodies, contacts))))
+            self._undo_for, self._undo_contacts = (state.body, state.contact), contacts
+        return self._undo
 
     def _plan(self, worlds: np.ndarray) -> np.ndarray:
         """A fresh plan for ``worlds`` (the one for every world is kept and reused: a
@@ -129,6 +161,7 @@ class Runner:
         plan: np.ndarray,
         max_steps: int,
         until_rest: bool,
+        undo: np.ndarray,
     ) -> int:
         global _threads_started
         threads = min(self.threads, plan.shape[0])
@@ -141,7 +174,7 @@ class Runner:
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
             state.contact_i, state.world_i, state.time, layout.rows, ctx, plan, max_steps,
-            until_rest, floats, ints, self.pair_capacity,
+            until_rest, floats, ints, self.pair_capacity, undo,
         )  # fmt: skip
         if serial:
             return pipeline.advance(*args)

@@ -24,7 +24,7 @@ compiled call cheap: its cost grows with the number of arrays passed.
 
 A snapshot is a copy of the ``WorldState``; ``replicate`` repeats it along the world
 axis. Contacts are kept sorted by ``(body A, body B, feature)`` in every world, with
-``contact_count`` valid rows; ``C`` grows when a world needs more.
+``contact_count`` valid rows and zeros after them; ``C`` grows when a world needs more.
 """
 
 from __future__ import annotations

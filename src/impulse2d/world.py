@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks, edit, envelope, pipeline, readouts, structure
+from . import _checks, edit, envelope, pipeline, readouts, refusal, structure
 from .readouts import ContactPoints, Energy
 from .runner import Runner, available_threads
 from .settings import Settings
@@ -278,7 +278,7 @@ class World:
         count = 1 if steps.__class__ is int and steps == 1 else _checks.positive_int("steps", steps)
         plan = self._runner.run(self.state, self.layout, context, self._all(), count, False)
         if plan[0, pipeline.PLAN_STATUS] or self.batch_size > 1:
-            self._check_springs(plan, context)
+            self._check_refusals(plan, context)
 
     def run_until_rest(
         self,
@@ -299,17 +299,21 @@ class World:
         chosen = self._worlds(worlds)
         if callback is None:
             plan = self._runner.run(self.state, self.layout, context, chosen, cap, True)
-            self._check_springs(plan, context)
+            self._check_refusals(plan, context)
             return plan[:, pipeline.PLAN_STEPS].copy()
         if not callable(callback):
             raise ValueError(f"callback must be callable, got {callback!r}")
         every = _checks.positive_int("every", 1 if every is None else every)
         taken = np.zeros(chosen.size, np.int64)
         going = np.arange(chosen.size)
+        before = self.state.copy()  # a refusal after some frames undoes the whole call
         while going.size:
             chunk = min(every, cap - int(taken[going].min()))
             plan = self._runner.run(self.state, self.layout, context, chosen[going], chunk, True)
-            self._check_springs(plan, context)
+            if plan[:, pipeline.PLAN_STATUS].max() >= pipeline.UNSTABLE_SPRING:
+                everyone = np.arange(self.batch_size)
+                self.state.put(before, everyone, everyone)
+                self._check_refusals(plan, context)
             moved = plan[:, pipeline.PLAN_STEPS]
             taken[going] += moved
             if moved.max() == chunk:  # a frame boundary was reached
@@ -318,14 +322,16 @@ class World:
             going = going[(moved == chunk) & (taken[going] < cap)]
         return taken
 
-    def _check_springs(self, plan: np.ndarray, context: np.ndarray) -> None:
+    def _check_refusals(self, plan: np.ndarray, context: np.ndarray) -> None:
+        """Raise for the first refused world of ``plan`` (the runner has already put every
+        world back as it was before the call)."""
         status = plan[:, pipeline.PLAN_STATUS]
-        bad = np.flatnonzero(
-            (status == pipeline.UNSTABLE_SPRING) | (status == pipeline.FAST_SPRING)
-        )
+        bad = np.flatnonzero(status >= pipeline.UNSTABLE_SPRING)
         if bad.size == 0:
             return
-        world, slot = int(plan[bad[0], pipeline.PLAN_WORLD]), int(plan[bad[0], pipeline.BAD_SPRING])
+        world, slot = int(plan[bad[0], pipeline.PLAN_WORLD]), int(plan[bad[0], pipeline.BAD_SLOT])
+        if status[bad[0]] == pipeline.LEFT_ENVELOPE:
+            raise self._left_envelope(plan[bad[0]], world, slot)
         spring = self.objects["springs"][slot]
         stiffness = np.atleast_1d(spring.stiffness)[world]
         damping = np.atleast_1d(spring.damping)[world]
@@ -336,14 +342,32 @@ class World:
                 f"anchors apart at more than {envelope.ACCELERATION:g} m/s^2{where} (the "
                 "supported range, see impulse2d.envelope: (k |L - L0| + c |v|) w, w the "
                 "inverse effective mass along the spring); lower stiffness or stretch, or "
-                "use heavier bodies. That world did not step."
+                "use heavier bodies. No world stepped."
             )
         raise ValueError(
             f"spring stiffness {stiffness} N/m with damping {damping} N s/m is unstable at "
             f"substep h = {context[1]:.3g} s{where} (needs h^2 k w + 2 h c w < 4, w the inverse "
             "effective mass along the spring); lower stiffness or damping, use more substeps "
-            "or a smaller dt. That world did not step."
+            "or a smaller dt. No world stepped."
         )
+
+    def _left_envelope(self, row: np.ndarray, world: int, slot: int) -> envelope.EnvelopeError:
+        what = refusal.WHAT[int(row[pipeline.BAD_WHAT])]
+        limit = {
+            "speed": f"its speed passed {envelope.SPEED:g} m/s",
+            "angular speed": f"its angular speed passed {envelope.ANGULAR_SPEED:g} rad/s",
+            "position": f"its centre went beyond {envelope.COORDINATE:g} m on an axis",
+            "not finite": "its position or velocity stopped being a number",
+        }[what]
+        where = f"world {world}, " if self.batch_size > 1 else ""
+        step = int(row[pipeline.PLAN_STEPS]) + 1
+        return envelope.EnvelopeError(
+            f"{where}{self.objects['bodies'][slot]!r} left the supported range at its "
+            f"step {step} of this call: {limit} (see impulse2d.envelope; restitution above "
+            "1 or a kinematic body can pump energy into a scene without bound). The step "
+            "was refused and every world is as it was before the call.",
+            world=world, body=slot, quantity=what,
+        )  # fmt: skip
 
     def _all(self) -> np.ndarray:
         return self._runner.every_world(self.batch_size)
