@@ -8,7 +8,16 @@ import included), the first thing a user does with the engine:
 * ``Pool2D-v0`` / ``Slingshot2D-v0``: ``gym.make`` of the env, ``reset`` and the first
   shot;
 * ``Pool2D-v0 x64``: the first shot of a batched vector env of 64 tables
-  (``gym.make_vec(..., vectorization_mode="vector_entry_point")``), what training steps.
+  (``gym.make_vec(..., vectorization_mode="vector_entry_point")``), what training steps;
+* ``main command``: ``python -m agents.train --env Pool2DCallShot-v0 --algo ppo`` until
+  its first progress line (the process is then stopped; its run folder is a scratch one).
+
+Compile cost is reported as process CPU time as well as wall time: the machine's cores
+are shared, and CPU time is what compiling costs whatever else runs beside it. For the
+cold run of each case the table after the times lists the CPU seconds numba spent on
+each kernel (``numba:compile`` events, its own time: the kernels it compiled inside it
+not counted), largest first; numba's own helpers (``builtins``, ``unicode``, ...) are
+summed in one row.
 
 ``cold`` points numba's cache at an empty scratch directory of its own
 (``NUMBA_CACHE_DIR``: never the repository's cache), which is the first run after
@@ -17,8 +26,9 @@ cold run wrote. The notice lines the runs printed on stderr (``impulse2d: compil
 ...``) are shown after the table, and a cached run must print none. The peer is pymunk,
 which needs no compiling.
 
-    python bench/bench_startup.py             # about 12 minutes on 2 cores: 8 cold compiles
+    python bench/bench_startup.py             # about 12 minutes on 2 cores: 10 cold compiles
     python bench/bench_startup.py --cases engine --repeats 1
+    python bench/bench_startup.py --top 40    # more rows of the per-kernel table
 """
 
 from __future__ import annotations
@@ -35,7 +45,25 @@ _Times = list[tuple[float, float]]  # (wall, cpu) seconds of each run
 
 _HEAD = r"""
 import json, time
+from numba.core import event
 t0, c0 = time.perf_counter(), time.process_time()
+class _Kernels(event.Listener):  # CPU seconds of each compile, its nested ones left out
+    def __init__(self):
+        self.open, self.own = [], {}
+    def on_start(self, ev):
+        f = ev.data["dispatcher"].py_func
+        name = f"{f.__module__.removeprefix('impulse2d.')}.{f.__name__}"
+        if not f.__module__.startswith("impulse2d"):
+            name = f"numba's {f.__module__.rsplit('.', 1)[-1]} helpers"
+        self.open.append([name, time.process_time(), 0.0])
+    def on_end(self, ev):
+        name, start, inner = self.open.pop()
+        spent = time.process_time() - start
+        if self.open:
+            self.open[-1][2] += spent
+        self.own[name] = self.own.get(name, 0.0) + spent - inner
+_kernels = _Kernels()
+event.register("numba:compile", _kernels)
 import impulse2d as p2
 times, cpu = {}, {}
 def mark(key):
@@ -46,7 +74,7 @@ mark("import")
 _TAIL = r"""
 from impulse2d._compile_notice import seconds_compiling
 times["compiling (notice)"] = cpu["compiling (notice)"] = seconds_compiling()
-print(json.dumps({"wall": times, "cpu": cpu}))
+print(json.dumps({"wall": times, "cpu": cpu, "kernels": _kernels.own}))
 """
 
 _CASES = {
@@ -83,6 +111,24 @@ mark("first Pool2D-v0 x64 shot")
 """,
 }
 
+# The main command's first progress line: run it in a child, stop it at that line.
+_MAIN = r"""
+import json, os, subprocess, sys, tempfile, time
+t0, usage = time.perf_counter(), __import__("resource").getrusage
+cmd = [sys.executable, "-u", "-m", "agents.train", "--env", "Pool2DCallShot-v0", "--algo", "ppo",
+       "--run-dir", tempfile.mkdtemp()]
+child = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+for line in child.stdout:
+    if line.startswith("progress"):
+        break
+wall = time.perf_counter() - t0
+child.kill()
+child.wait()
+ru = usage(__import__("resource").RUSAGE_CHILDREN)
+key = "first progress line"
+print(json.dumps({"wall": {key: wall}, "cpu": {key: ru.ru_utime + ru.ru_stime}, "kernels": {}}))
+"""
+
 _PYMUNK = r"""
 import json, time
 t0 = time.perf_counter()
@@ -98,7 +144,7 @@ print(json.dumps({"import": time.perf_counter() - t0, "first step": time.perf_co
 def _run(code: str, cache: str | None) -> tuple[dict[str, Any], list[str]]:
     """Run ``code`` in a fresh interpreter (numba's cache in ``cache``); its times and
     the notice lines it printed."""
-    env = dict(os.environ)
+    env = dict(os.environ, PYTHONPATH=os.getcwd())
     for name in ("NUMBA_DISABLE_JIT", "IMPULSE2D_QUIET", "IMPULSE2D_COMPILE_RUN"):
         env.pop(name, None)  # a fresh run of its own, which may speak
     if cache is not None:
@@ -109,15 +155,22 @@ def _run(code: str, cache: str | None) -> tuple[dict[str, Any], list[str]]:
     return json.loads(out.stdout.strip().splitlines()[-1]), notices
 
 
+def _code(case: str) -> str:
+    return _MAIN if case == "main command" else _HEAD + _CASES[case] + _TAIL
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=2, help="cold runs and cached runs")
-    parser.add_argument("--cases", nargs="+", choices=list(_CASES), default=list(_CASES))
+    choices = [*_CASES, "main command"]
+    parser.add_argument("--cases", nargs="+", choices=choices, default=choices)
+    parser.add_argument("--top", type=int, default=20, help="rows of the per-kernel table")
     args = parser.parse_args(argv)
+    kernels: dict[str, dict[str, float]] = {}
     table: dict[str, list[tuple[str, _Times, _Times]]] = {}
     notices: dict[str, list[str]] = {}
     for case in args.cases:
-        code = _HEAD + _CASES[case] + _TAIL
+        code = _code(case)
         cold, cached = [], []
         with tempfile.TemporaryDirectory() as first:
             for i in range(args.repeats):
@@ -129,6 +182,7 @@ def main(argv: list[str] | None = None) -> None:
                         times, said = _run(code, cache)
                 cold.append(times)
                 notices.setdefault(case, said)
+                kernels.setdefault(case, times["kernels"])
             for i in range(args.repeats):
                 print(f"... {case}: cached run {i + 1}", file=sys.stderr, flush=True)
                 times, said = _run(code, first)
@@ -154,6 +208,7 @@ def main(argv: list[str] | None = None) -> None:
         for key, cold_times, cached_times in rows:
             other = f"{peer[key]:7.2f}" if case == "engine" and key in peer else f"{'-':>7s}"
             print(f"  {key:32s} {_list(cold_times):>26s} {_list(cached_times):>24s} {other}")
+    _print_kernels(kernels, args.top)
     print("what the first cold run of each case printed on stderr:")
     for case, said in notices.items():
         for line in said or ["(nothing)"]:
@@ -162,6 +217,20 @@ def main(argv: list[str] | None = None) -> None:
         first = max(wall for wall, _ in dict((k, c) for k, _, c in table["engine"])["first step"])
         print(f"target: cached import + world + first step under 3 s: {first:.2f} s, "
               f"{'ok' if first < 3.0 else 'MISS'}")  # fmt: skip
+
+
+def _print_kernels(kernels: dict[str, dict[str, float]], top: int) -> None:
+    """The CPU seconds each kernel's compile took in the first cold run of each case."""
+    print("compile CPU seconds per kernel, first cold run (its own, nested compiles out):")
+    for case, own in kernels.items():
+        if not own:
+            continue
+        rows = sorted(own.items(), key=lambda row: -row[1])
+        print(f"  {case}: {sum(own.values()):.1f} s over {len(own)} kernels")
+        for name, seconds in rows[:top]:
+            print(f"    {name:44s} {seconds:6.2f}")
+        if len(rows) > top:
+            print(f"    {len(rows) - top} more {sum(t for _, t in rows[top:]):27.2f}")
 
 
 def _list(times: _Times) -> str:

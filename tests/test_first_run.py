@@ -105,7 +105,8 @@ def test_a_step_kernel_over_compiled_stages_takes_less_and_says_so(tmp_path):
     compiles.start(STEP)
     compiles.end(STEP, 8.0)
     assert out.getvalue().splitlines() == [
-        "impulse2d: compiling one more physics kernel (first run only; about 15 s)...",
+        "impulse2d: compiling one more physics kernel (first run only; "
+        f"about {_compile_notice.ANOTHER_SECONDS} s)...",
         "impulse2d: compiled in 8 s; later runs load them from the cache",
     ]
 

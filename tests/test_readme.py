@@ -37,3 +37,6 @@ def test_every_python_block_runs_and_gives_what_it_says(tmp_path, monkeypatch):
     assert len(namespace["frames"]) >= 3
     assert namespace["model"].num_timesteps == 64 * 16 * 10  # 10,240 shots, as it says
     assert np.isfinite(namespace["e"].total)
+    # "speed 0.0: the call changed nothing"
+    pumped = namespace["pumped"]
+    assert pumped.time == 0.0 and tuple(pumped.bodies[-1].velocity) == (0.0, 10.0)

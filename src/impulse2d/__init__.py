@@ -11,9 +11,10 @@
 A ``World(batch_size=1024)`` (or ``world.replicate(1024)``) steps 1,024 copies of a scene
 in one set of arrays. SI units throughout.
 
-The first step after installing or updating compiles the engine's kernels (about a
-minute on two cores; numba caches them, and later runs load them in under a second). It
-says so on stderr while it does; ``IMPULSE2D_QUIET=1`` silences it.
+The first step after installing or updating compiles the engine's kernels (about 45 s
+on two cores; numba caches them, and later runs load them in under half a second;
+``python -m impulse2d.compile`` fills the cache ahead). It says so on stderr while it
+does; ``IMPULSE2D_QUIET=1`` silences it.
 """
 
 from . import _compile_notice

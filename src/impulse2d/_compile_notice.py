@@ -3,13 +3,14 @@
 numba compiles a kernel the first time it is called, unless its cache has it; the cache
 is written next to the sources (or under ``NUMBA_CACHE_DIR``) and kept until the kernel
 modules change. So the first step after installing or updating impulse2d waits while
-the step kernels compile, about a minute on two cores, and every later run loads them in
-well under a second. So that nobody takes that minute for a hang, the first run says
+the step kernels compile, about 45 s on two cores, and every later run loads them in
+well under a second (``python -m impulse2d.compile`` fills the cache ahead, for images,
+CI and cluster nodes). So that nobody takes that wait for a hang, the first run says
 what it is doing, on stderr::
 
     impulse2d: compiling the physics kernels (first run after installing or updating;
-    about 60 s on 2 cores, cached afterwards)...
-    impulse2d: compiled in 64 s; later runs load them from the cache
+    about 45 s on 2 cores, cached afterwards)...
+    impulse2d: compiled in 43 s; later runs load them from the cache
 
 (each is one line). A cached run prints nothing.
 
@@ -18,7 +19,7 @@ the cache missed, so the notice is exact: it listens for the two kernels a step 
 one compiled call of (``pipeline.advance`` for one world, ``advance_parallel`` for a
 batch), whichever is compiled first, and stays quiet for the small kernels the facades
 call (a few seconds in all). A step kernel compiled once the stages it calls are
-compiled (the batched one after the single one) takes about 15 s, and says so.
+compiled (the batched one after the single one) takes about 10 s, and says so.
 
 *Processes.* The first ``import impulse2d`` of a process tree puts a run token in the
 environment, which child processes inherit; the first process of the tree to compile a
@@ -48,16 +49,16 @@ QUIET = "IMPULSE2D_QUIET"
 _RUN = "IMPULSE2D_COMPILE_RUN"  # the run token child processes inherit
 
 # Seconds each step kernel takes to compile with an empty cache, measured with
-# bench/bench_startup.py on this project's machine (2 shared cores): 56-65 s for the
-# single-world one, 61-64 s for the batched one (49-80 s over all runs, with the cores
-# more or less busy). A step kernel left to compile over compiled stages: 8-17 s.
+# bench/bench_startup.py on this project's machine (2 shared cores): 40-45 s of CPU for
+# the single-world one, about 50 s for the batched one compiled first. A step kernel
+# left to compile over compiled stages: 9-12 s.
 TYPICAL_SECONDS = {
-    ("impulse2d.pipeline", "advance"): 60,
-    ("impulse2d.pipeline", "advance_parallel"): 60,
+    ("impulse2d.pipeline", "advance"): 45,
+    ("impulse2d.pipeline", "advance_parallel"): 50,
 }
-ANOTHER_SECONDS = 15
+ANOTHER_SECONDS = 10
 # The stage under both step kernels: when it is compiled (or cached), a step kernel left
-# to compile takes ANOTHER_SECONDS, not a minute.
+# to compile takes ANOTHER_SECONDS, not the whole compile.
 _CORE = ("impulse2d.pipeline", "advance_world")
 
 
