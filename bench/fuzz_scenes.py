@@ -81,9 +81,9 @@ class Tally:
         laws_of = {
             "any": ["finite", "batch == single", "snapshot replay", laws.LEFT_THE_ENVELOPE],
             "planes": ["finite", "in front of planes", laws.LEFT_THE_ENVELOPE],
-            "conservative": ["finite", "energy"],
-            "free": ["finite", "linear momentum", "angular momentum"],
-            "free boxes": ["finite", "linear momentum", "angular momentum"],
+            "conservative": ["finite", "energy", laws.LEFT_THE_ENVELOPE],
+            "free": ["finite", "linear momentum", "angular momentum", laws.LEFT_THE_ENVELOPE],
+            "free boxes": ["finite", "linear momentum", "angular momentum", laws.LEFT_THE_ENVELOPE],
             "edge": ["finite", "refusal changes nothing", laws.LEFT_THE_ENVELOPE],
         }
         for family, names in laws_of.items():

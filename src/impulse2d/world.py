@@ -363,9 +363,10 @@ class World:
         step = int(row[pipeline.PLAN_STEPS]) + 1
         return envelope.EnvelopeError(
             f"{where}{self.objects['bodies'][slot]!r} left the supported range at its "
-            f"step {step} of this call: {limit} (see impulse2d.envelope; restitution above "
-            "1 or a kinematic body can pump energy into a scene without bound). The step "
-            "was refused and every world is as it was before the call.",
+            f"step {step} of this call: {limit} (see impulse2d.envelope). A scene can leave "
+            "it by itself: bounces with restitution above 1 and kinematic bodies add energy "
+            "without bound, and a small body struck hard spins fast. The step was refused "
+            "and every world is as it was before the call.",
             world=world, body=slot, quantity=what,
         )  # fmt: skip
 
