@@ -242,13 +242,17 @@ def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, in
 @kernel
 def advance(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs, undo,
+    max_steps, until_rest, floats, ints, pairs, undo, fresh,
 ) -> int:  # fmt: skip
     """``advance_world`` for every row of the plan, one after the other; returns the
-    largest status (``RUNNING``: every world went as far as asked)."""
+    largest status (``RUNNING``: every world went as far as asked). ``fresh``: the plan
+    starts here, so its counters are zeroed first (the runner reuses its plan arrays;
+    zeroing them here costs nothing next to a numpy call)."""
     state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
     worst = RUNNING
     for j in range(plan.shape[0]):
+        if fresh:
+            plan[j, PLAN_WORLD + 1 :] = 0
         if plan[j, PLAN_STATUS] == RUNNING:
             advance_world(
                 state, layout, ctx, plan, j, max_steps, until_rest, floats[0], ints[0], pairs,
@@ -263,7 +267,7 @@ def advance(
 @parallel_kernel
 def advance_parallel(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs, undo,
+    max_steps, until_rest, floats, ints, pairs, undo, fresh,
 ) -> None:  # fmt: skip
     """``advance`` with the plan's rows split into as many chunks as there are scratch
     rows, the chunks spread over threads (each chunk steps its worlds in order)."""
@@ -271,6 +275,8 @@ def advance_parallel(
     rows, chunks = plan.shape[0], floats.shape[0]
     for c in numba.prange(chunks):
         for j in range(c * rows // chunks, (c + 1) * rows // chunks):
+            if fresh:
+                plan[j, PLAN_WORLD + 1 :] = 0
             if plan[j, PLAN_STATUS] == RUNNING:
                 advance_world(
                     state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c],

@@ -86,16 +86,16 @@ class Runner:
         worlds: np.ndarray,
         max_steps: int,
         until_rest: bool,
-    ) -> np.ndarray:
+    ) -> tuple[np.ndarray, int]:
         """Step ``worlds`` up to ``max_steps`` times each (until at rest, if asked).
-        Returns the plan: per world its index, the steps it took and its status. When a
-        world was refused (a status from ``pipeline.UNSTABLE_SPRING`` on), every world
-        is back as it was before the call."""
+        Returns the plan (per world its index, the steps it took and its status) and the
+        largest status. When a world was refused (a status from
+        ``pipeline.UNSTABLE_SPRING`` on), every world is back as it was before the call."""
         plan = self._plan(worlds)
         if plan.shape[0] == 0:
-            return plan
+            return plan, pipeline.RUNNING
         undo = self._undo_rows(state)
-        status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo)
+        status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo, True)
         while status != pipeline.RUNNING:
             if status >= pipeline.UNSTABLE_SPRING:
                 self._undo_call(state, layout, plan, undo)
@@ -103,8 +103,8 @@ class Runner:
             short = plan[:, pipeline.PLAN_STATUS] == pipeline.NEEDS_ROOM
             self._make_room(state, plan[short])
             plan[short, pipeline.PLAN_STATUS] = pipeline.RUNNING
-            status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo)
-        return plan
+            status = self._call(state, layout, ctx, plan, max_steps, until_rest, undo, False)
+        return plan, status
 
     def _undo_call(
         self, state: WorldState, layout: Any, plan: np.ndarray, undo: np.ndarray
@@ -128,12 +128,11 @@ class Runner:
         return self._undo
 
     def _plan(self, worlds: np.ndarray) -> np.ndarray:
-        """A fresh plan for ``worlds`` (the one for every world is kept and reused: a
-        plain step must cost little besides the compiled call)."""
+        """A plan for ``worlds`` (the one for every world is kept and reused, its
+        counters zeroed by the first compiled call: a plain step must cost little
+        besides that call)."""
         if worlds is self._every:
-            plan = self._every_plan
-            plan[:, 1:] = 0
-            return plan
+            return self._every_plan
         plan = np.zeros((worlds.size, pipeline.PLAN_COLUMNS), np.int64)
         plan[:, pipeline.PLAN_WORLD] = worlds
         return plan
@@ -162,6 +161,7 @@ class Runner:
         max_steps: int,
         until_rest: bool,
         undo: np.ndarray,
+        fresh: bool,
     ) -> int:
         global _threads_started
         threads = min(self.threads, plan.shape[0])
@@ -174,7 +174,7 @@ class Runner:
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
             state.contact_i, state.world_i, state.time, layout.rows, ctx, plan, max_steps,
-            until_rest, floats, ints, self.pair_capacity, undo,
+            until_rest, floats, ints, self.pair_capacity, undo, fresh,
         )  # fmt: skip
         if serial:
             return pipeline.advance(*args)

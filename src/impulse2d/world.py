@@ -276,8 +276,10 @@ class World:
         ``steps`` times by ``dt`` in one compiled call."""
         context = self.settings.step_context(dt)
         count = 1 if steps.__class__ is int and steps == 1 else _checks.positive_int("steps", steps)
-        plan = self._runner.run(self.state, self.layout, context, self._all(), count, False)
-        if plan[0, pipeline.PLAN_STATUS] or self.batch_size > 1:
+        runner = self._runner
+        every = runner.every_world(self.state.time.size)
+        plan, status = runner.run(self.state, self.layout, context, every, count, False)
+        if status:
             self._check_refusals(plan, context)
 
     def run_until_rest(
@@ -298,7 +300,7 @@ class World:
         cap = _checks.positive_int("max_steps", max_steps)
         chosen = self._worlds(worlds)
         if callback is None:
-            plan = self._runner.run(self.state, self.layout, context, chosen, cap, True)
+            plan, _ = self._runner.run(self.state, self.layout, context, chosen, cap, True)
             self._check_refusals(plan, context)
             return plan[:, pipeline.PLAN_STEPS].copy()
         if not callable(callback):
@@ -309,8 +311,10 @@ class World:
         before = self.state.copy()  # a refusal after some frames undoes the whole call
         while going.size:
             chunk = min(every, cap - int(taken[going].min()))
-            plan = self._runner.run(self.state, self.layout, context, chosen[going], chunk, True)
-            if plan[:, pipeline.PLAN_STATUS].max() >= pipeline.UNSTABLE_SPRING:
+            plan, status = self._runner.run(
+                self.state, self.layout, context, chosen[going], chunk, True
+            )
+            if status >= pipeline.UNSTABLE_SPRING:
                 everyone = np.arange(self.batch_size)
                 self.state.put(before, everyone, everyone)
                 self._check_refusals(plan, context)
