@@ -58,8 +58,7 @@ import numba
 import numpy as np
 
 import impulse2d as p2
-from impulse2d import pipeline
-from impulse2d import settings as ctx_
+from impulse2d import pipeline, settings
 from impulse2d.broadphase import find_pairs
 from impulse2d.contacts import carry_impulses, count_dormant, prepare
 from impulse2d.integrate import spring_stability, step_terms
@@ -167,7 +166,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
         return NEEDS_ROOM
     if ends.shape[0]:
         measure = np.zeros(1)
-        spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
+        spring_stability(body, body_i, spring, ends, w, terms, ctx[settings.H], measure)
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     if stages == 5:

@@ -14,7 +14,7 @@ import numpy as np
 
 import impulse2d as p2
 import scenes_random as sr
-from impulse2d.state import ANGLE, HEALTH, KEPT_TORQUE, MASS, MOMENT, VX, VY, W, X, Y
+from impulse2d.state import ANGLE, HEALTH, KEPT_TORQUE, MASS, MOMENT, OMEGA, VX, VY, X, Y
 
 ENERGY_TOLERANCE = 0.01  # relative kinetic energy gain allowed (solver error)
 MOMENTUM_TOLERANCE = 1e-9  # relative drift of linear and angular momentum
@@ -55,7 +55,7 @@ def momenta(world: p2.World) -> tuple[np.ndarray, float]:
     """Total linear momentum (2,) and angular momentum about the origin of world 0."""
     body = world.state.body[0, : len(world.bodies)]
     m, x, y = body[:, MASS], body[:, X], body[:, Y]
-    vx, vy, w = body[:, VX], body[:, VY], body[:, W]
+    vx, vy, w = body[:, VX], body[:, VY], body[:, OMEGA]
     linear = np.array([(m * vx).sum(), (m * vy).sum()])
     return linear, float((m * (x * vy - y * vx)).sum() + (body[:, MOMENT] * w).sum())
 
@@ -66,7 +66,7 @@ def momentum_scales(world: p2.World) -> tuple[float, float]:
     relative error of its own)."""
     body = world.state.body[0, : len(world.bodies)]
     m, x, y = body[:, MASS], body[:, X], body[:, Y]
-    vx, vy, w = body[:, VX], body[:, VY], body[:, W]
+    vx, vy, w = body[:, VX], body[:, VY], body[:, OMEGA]
     linear = float((m * np.hypot(vx, vy)).sum())
     angular = float(
         (m * np.hypot(x, y) * np.hypot(vx, vy)).sum() + (body[:, MOMENT] * abs(w)).sum()
@@ -215,7 +215,7 @@ def replay_differs(scene: sr.Scene, before: int, after: int) -> bool:
 
 def poses_finite(world: p2.World) -> bool:
     body = world.state.body[0, : len(world.bodies)]
-    return bool(np.isfinite(body[:, [X, Y, ANGLE, VX, VY, W]]).all())
+    return bool(np.isfinite(body[:, [X, Y, ANGLE, VX, VY, OMEGA]]).all())
 
 
 # -- the families of wide scenes, and the laws each must obey -----------------------------------

@@ -23,7 +23,7 @@ import impulse2d as p2
 import scene_laws as laws
 import scenes_random as sr
 from impulse2d.runner import available_threads
-from impulse2d.state import ANGLE, VX, VY, W, X, Y
+from impulse2d.state import ANGLE, OMEGA, VX, VY, X, Y
 
 STEPS = 100
 BASE = settings(
@@ -73,7 +73,7 @@ def test_state_stays_finite(scene):
     world = built(scene)
     run(world, scene.dt)
     body = world.state.body[0, : len(world.bodies)]
-    assert np.isfinite(body[:, [X, Y, ANGLE, VX, VY, W]]).all()
+    assert np.isfinite(body[:, [X, Y, ANGLE, VX, VY, OMEGA]]).all()
     assert np.isfinite(sr.poses(world)).all()
     e = world.energy()
     assert math.isfinite(e.total)

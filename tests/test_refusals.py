@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, note, settings
 import impulse2d as p2
 import scenes_random as sr
 from impulse2d import envelope, refusal
-from impulse2d.state import CONTACT_COUNT, MASS, SLEEP_TIME, VX, VY, W, X, Y
+from impulse2d.state import CONTACT_COUNT, MASS, OMEGA, SLEEP_TIME, VX, VY, X, Y
 
 DT = 1 / 60
 
@@ -50,11 +50,11 @@ def _pump(batch: int = 1, restitution=2.0, threads: int = 1) -> tuple[p2.World, 
         (VX, 0.99 * envelope.SPEED, None),
         (VY, 1.01 * envelope.SPEED, refusal.SPEED),
         (VX, 0.8 * envelope.SPEED, None),  # with VY below: |v| = 1.13e4 > 1e4
-        (W, -1.01 * envelope.ANGULAR_SPEED, refusal.ANGULAR_SPEED),
+        (OMEGA, -1.01 * envelope.ANGULAR_SPEED, refusal.ANGULAR_SPEED),
         (X, 1.01 * envelope.COORDINATE, refusal.POSITION),
         (Y, -1.01 * envelope.COORDINATE, refusal.POSITION),
         (VX, float("nan"), refusal.NOT_FINITE),
-        (W, float("inf"), refusal.ANGULAR_SPEED),
+        (OMEGA, float("inf"), refusal.ANGULAR_SPEED),
         (Y, float("nan"), refusal.NOT_FINITE),
     ],
 )

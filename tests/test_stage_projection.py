@@ -13,7 +13,7 @@ import pytest
 
 import impulse2d as p2
 from impulse2d import projection
-from impulse2d.state import VX, W
+from impulse2d.state import OMEGA, VX
 from test_stage_solver import prepared
 
 ZERO_G = (0.0, 0.0)
@@ -43,7 +43,7 @@ def test_a_disc_deep_in_the_ground_ends_exactly_half_its_radius_in():
     assert depth(world, ball, ground) == pytest.approx(0.25, abs=1e-12)
     assert ball.position[0] == 0.3  # along the normal only
     assert ball.position[1] == pytest.approx(0.25, abs=1e-12)
-    np.testing.assert_array_equal(world.state.body[0, :, VX : W + 1], before[:, VX : W + 1])
+    np.testing.assert_array_equal(world.state.body[0, :, VX : OMEGA + 1], before[:, VX : OMEGA + 1])
 
 
 def test_a_tilted_box_moves_until_its_deepest_corner_is_at_the_allowance():

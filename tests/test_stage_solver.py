@@ -53,9 +53,12 @@ def prepared(world: p2.World, dt: float = DT) -> SimpleNamespace:
 
 
 def solve(step: SimpleNamespace, use_bias: bool) -> None:
-    solver.solve(
-        step.body, 0, step.ctx, step.terms, step.points, step.ids, step.n, use_bias
-    )  # fmt: skip
+    """One sweep: ``solver.solve`` (with the position bias) or ``solver.relax``."""
+    args = (step.body, 0, step.ctx, step.terms, step.points, step.ids, step.n)
+    if use_bias:
+        solver.solve(*args)
+    else:
+        solver.relax(*args, False)
 
 
 def momentum(world: p2.World) -> np.ndarray:

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 
-from . import settings as ctx_
+from . import settings
 from ._jit import inline, kernel
 from .state import (
     APPROACH,
@@ -47,6 +47,7 @@ from .state import (
     HALF_W,
     KEPT_TORQUE,
     NORMAL_IMPULSE,
+    OMEGA,
     POINT_X,
     POINT_Y,
     RESTITUTION,
@@ -55,7 +56,6 @@ from .state import (
     TANGENT_IMPULSE,
     VX,
     VY,
-    W,
     X,
     Y,
 )
@@ -261,7 +261,7 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     integrations (the step start, ``m = 0``, and after each of them, here), so the
     largest ``|m|`` seen here (``DRIFT``) times ``GROSS_J`` bounds that torque exactly;
     the contact cache keeps it (``state.KEPT_TORQUE``) for the tests of the law."""
-    threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
+    threshold = ctx[settings.RESTITUTION_THRESHOLD]
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
@@ -286,9 +286,9 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
 def prepare(body, w, ctx, terms, points, ids, n) -> None:
     """Effective masses, mixed materials, softness and the normal velocity and
     acceleration at the start of the step, for every point."""
-    restitution_rule = int(ctx[ctx_.RESTITUTION_RULE])
-    friction_rule = int(ctx[ctx_.FRICTION_RULE])
-    inv_h = ctx[ctx_.INV_H]
+    restitution_rule = int(ctx[settings.RESTITUTION_RULE])
+    friction_rule = int(ctx[settings.FRICTION_RULE])
+    inv_h = ctx[settings.INV_H]
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         nx, ny = points[k, NX], points[k, NY]
@@ -299,10 +299,10 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         rna, rnb = points[k, RNA], points[k, RNB]
         points[k, APPROACH_SPEED] = (
             -(nx * body[w, a, VX] + ny * body[w, a, VY])
-            - rna * body[w, a, W]
+            - rna * body[w, a, OMEGA]
             + nx * body[w, b, VX]
             + ny * body[w, b, VY]
-            + rnb * body[w, b, W]
+            + rnb * body[w, b, OMEGA]
         )
         points[k, NORMAL_ACCEL] = (
             -(nx * terms[a, ACCEL_X] + ny * terms[a, ACCEL_Y])
@@ -317,7 +317,7 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         points[k, MIXED_FRICTION] = mix(friction_rule, body[w, a, FRICTION], body[w, b, FRICTION])
         # Against a body that cannot move, the contact is twice as stiff (Box2D).
         hard = terms[a, MOVABLE] == 0.0 or terms[b, MOVABLE] == 0.0
-        base = ctx_.HARD_RATE if hard else ctx_.SOFT_RATE
+        base = settings.HARD_RATE if hard else settings.SOFT_RATE
         points[k, BIAS_RATE] = ctx[base]
         points[k, MASS_SCALE] = ctx[base + 1]
         points[k, IMPULSE_SCALE] = ctx[base + 2]

@@ -13,8 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _checks
-from . import envelope as env
+from . import _checks, envelope
 from ._jit import kernel
 from .events import disable, enable, forget_contacts
 from .sleep import wake_island, wake_neighbours
@@ -40,12 +39,12 @@ from .state import (
     LINEAR_DRAG,
     MASS,
     MOMENT,
+    OMEGA,
     SIN,
     SLEEP_TIME,
     TORQUE,
     VX,
     VY,
-    W,
     X,
     Y,
 )
@@ -53,7 +52,7 @@ from .state import (
 if TYPE_CHECKING:
     from .world import World
 
-VELOCITY_COLUMNS = (VX, VY, W)
+VELOCITY_COLUMNS = (VX, VY, OMEGA)
 
 
 @kernel
@@ -110,7 +109,7 @@ def write_body(
     (``moves``: it was teleported or resized, so what rested on it wakes too)."""
     body, motion = world.state.body, int(world.layout.motion[slot])
     if motion == FIXED and set(columns) <= set(VELOCITY_COLUMNS) and np.any(values != 0.0):
-        name = "angular_velocity" if columns == [W] else "velocity"
+        name = "angular_velocity" if columns == [OMEGA] else "velocity"
         raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
     changed = np.flatnonzero((body[:, slot, columns] != values).any(axis=1))
     body[:, slot, columns] = values
@@ -119,7 +118,7 @@ def write_body(
         return
     if motion == KINEMATIC and set(columns) <= set(VELOCITY_COLUMNS):
         # A kinematic body is awake while it moves.
-        moving = (body[changed, slot, VX : W + 1] != 0.0).any(axis=1)
+        moving = (body[changed, slot, VX : OMEGA + 1] != 0.0).any(axis=1)
         world.state.body_i[changed, slot, AWAKE] = moving & (
             world.state.body_i[changed, slot, ENABLED] == 1
         )
@@ -189,19 +188,21 @@ def apply(world: World, slot: int, force: bool, push: np.ndarray, point: np.ndar
     if force:
         total = body[:, FX : TORQUE + 1] + np.column_stack([push, torque])
         acceleration = total[:, :2] * body[:, INV_MASS, None]
-        _checks.magnitude_at_most("force (over mass)", acceleration, env.ACCELERATION, " m/s^2")
+        _checks.magnitude_at_most(
+            "force (over mass)", acceleration, envelope.ACCELERATION, " m/s^2"
+        )
         body[:, FX : TORQUE + 1] = total
     else:
-        velocity = body[:, VX : W + 1] + np.column_stack(
+        velocity = body[:, VX : OMEGA + 1] + np.column_stack(
             [push * body[:, INV_MASS, None], torque * body[:, INV_MOMENT]]
         )
-        speed = env.SPEED
+        speed = envelope.SPEED
         _checks.magnitude_at_most(
             "impulse (the velocity it leaves)", velocity[:, :2], speed, " m/s"
         )
-        spin = env.ANGULAR_SPEED
+        spin = envelope.ANGULAR_SPEED
         _checks.within("impulse (the spin it leaves)", velocity[:, 2], -spin, spin, " rad/s")
-        body[:, VX : W + 1] = velocity
+        body[:, VX : OMEGA + 1] = velocity
     wake(world, np.flatnonzero(np.any(push != 0.0, axis=1)), slot)
 
 
@@ -212,7 +213,7 @@ def stop(world: World, worlds: np.ndarray) -> None:
     movers = np.flatnonzero(layout.motion != FIXED)
     dynamic = np.flatnonzero((layout.motion == DYNAMIC) & (layout.kind >= 0))
     rows = worlds[:, None]
-    s.body[rows, movers, VX : W + 1] = 0.0
+    s.body[rows, movers, VX : OMEGA + 1] = 0.0
     s.body_i[rows, movers, AWAKE] = 0
     s.body[rows, dynamic, SLEEP_TIME] = 0.0
     s.body_i[rows, dynamic, ISLAND] = dynamic[None, :]

@@ -23,8 +23,7 @@ import math
 
 import numpy as np
 
-from . import envelope
-from . import settings as ctx_
+from . import envelope, settings
 from ._jit import kernel
 from .state import (
     ANCHOR_AX,
@@ -51,6 +50,7 @@ from .state import (
     INV_MASS,
     INV_MOMENT,
     LINEAR_DRAG,
+    OMEGA,
     PLANE,
     REST_LENGTH,
     ROLLING,
@@ -60,7 +60,6 @@ from .state import (
     TORQUE,
     VX,
     VY,
-    W,
     X,
     Y,
 )
@@ -101,7 +100,7 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
     """Fill the step terms of every body of world ``w`` (see ``workspace``). (The loop
     body is written out here rather than called: a compiled helper that branches costs
     numba's reference counting of every array it is handed, per call.)"""
-    h, spec, substeps = ctx[ctx_.H], ctx[ctx_.SPECULATIVE], ctx[ctx_.SUBSTEPS]
+    h, spec, substeps = ctx[settings.H], ctx[settings.SPECULATIVE], ctx[settings.SUBSTEPS]
     for i in range(shapes.shape[0]):
         kind, motion = shapes[i, 0], shapes[i, 1]
         enabled = body_i[w, i, ENABLED] == 1
@@ -113,8 +112,8 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
             inv_mass = body[w, i, INV_MASS]
             terms[i, STEP_INV_MASS] = inv_mass
             terms[i, STEP_INV_MOMENT] = body[w, i, INV_MOMENT]
-            terms[i, ACCEL_X] = h * (ctx[ctx_.GRAVITY_X] + body[w, i, FX] * inv_mass)
-            terms[i, ACCEL_Y] = h * (ctx[ctx_.GRAVITY_Y] + body[w, i, FY] * inv_mass)
+            terms[i, ACCEL_X] = h * (ctx[settings.GRAVITY_X] + body[w, i, FX] * inv_mass)
+            terms[i, ACCEL_Y] = h * (ctx[settings.GRAVITY_Y] + body[w, i, FY] * inv_mass)
             terms[i, ACCEL_W] = h * body[w, i, TORQUE] * body[w, i, INV_MOMENT]
             terms[i, ROLL_H] = h * body[w, i, ROLLING]
             if body[w, i, DAMP_H] != h:  # exp(-drag h), recomputed only when h or drag change
@@ -125,7 +124,7 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
         else:
             terms[i, STEP_INV_MASS] = terms[i, STEP_INV_MOMENT] = 0.0
             terms[i, ACCEL_X] = terms[i, ACCEL_Y] = terms[i, ACCEL_W] = terms[i, ROLL_H] = 0.0
-        vx, vy, turn, bound = body[w, i, VX], body[w, i, VY], body[w, i, W], body[w, i, BOUND]
+        vx, vy, turn, bound = body[w, i, VX], body[w, i, VY], body[w, i, OMEGA], body[w, i, BOUND]
         # What the velocity can reach within the step: now, plus gravity's and the applied
         # forces' gain over the substeps (springs: ``spring_reach``).
         gain = substeps * (abs(terms[i, ACCEL_X]) + abs(terms[i, ACCEL_Y]))
@@ -151,7 +150,7 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
     impulse ``J`` at an anchor ``r`` speeds every point of the body up by at most
     ``J (1/m + |r x u| R / I)``. A stretched spring can fling a resting body across a
     plane in one step; the contacts are made from this reach, so the plane is there."""
-    dt = ctx[ctx_.DT]
+    dt = ctx[settings.DT]
     for k in range(ends.shape[0]):
         if not spring_acts(body_i, spring, ends, w, k):
             continue
@@ -173,7 +172,7 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
 @kernel
 def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
     """Each body's broadphase box (``LEFT`` ... ``TOP``, see ``workspace``)."""
-    dt = ctx[ctx_.DT]
+    dt = ctx[settings.DT]
     for i in range(shapes.shape[0]):
         kind = shapes[i, 0]
         enabled = body_i[w, i, ENABLED] == 1
@@ -202,7 +201,7 @@ def integrate_velocities(body, w, terms) -> None:
             continue
         body[w, i, VX] = body[w, i, VX] * body[w, i, DAMP_LINEAR] + terms[i, ACCEL_X]
         body[w, i, VY] = body[w, i, VY] * body[w, i, DAMP_LINEAR] + terms[i, ACCEL_Y]
-        body[w, i, W] = body[w, i, W] * body[w, i, DAMP_ANGULAR] + terms[i, ACCEL_W]
+        body[w, i, OMEGA] = body[w, i, OMEGA] * body[w, i, DAMP_ANGULAR] + terms[i, ACCEL_W]
         roll = terms[i, ROLL_H]
         if roll > 0.0:
             vx, vy = body[w, i, VX], body[w, i, VY]
@@ -219,7 +218,7 @@ def integrate_positions(body, w, terms, h) -> None:
             continue
         body[w, i, X] += h * body[w, i, VX]
         body[w, i, Y] += h * body[w, i, VY]
-        body[w, i, ANGLE] += h * body[w, i, W]
+        body[w, i, ANGLE] += h * body[w, i, OMEGA]
 
 
 @kernel
@@ -254,8 +253,8 @@ def spring_geometry(body, spring, ends, w, k):
 def spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy) -> float:
     """How fast a spring's anchors move apart along it (``u``): ``(vB + wB x rB) - (vA +
     wA x rA)``, projected on ``u``."""
-    rvx = (body[w, b, VX] - body[w, b, W] * rby) - (body[w, a, VX] - body[w, a, W] * ray)
-    rvy = (body[w, b, VY] + body[w, b, W] * rbx) - (body[w, a, VY] + body[w, a, W] * rax)
+    rvx = (body[w, b, VX] - body[w, b, OMEGA] * rby) - (body[w, a, VX] - body[w, a, OMEGA] * ray)
+    rvy = (body[w, b, VY] + body[w, b, OMEGA] * rbx) - (body[w, a, VY] + body[w, a, OMEGA] * rax)
     return rvx * ux + rvy * uy
 
 
@@ -288,10 +287,10 @@ def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
         imb, iib = terms[b, STEP_INV_MASS], terms[b, STEP_INV_MOMENT]
         body[w, a, VX] += h * fx * ima
         body[w, a, VY] += h * fy * ima
-        body[w, a, W] += h * (rax * fy - ray * fx) * iia
+        body[w, a, OMEGA] += h * (rax * fy - ray * fx) * iia
         body[w, b, VX] -= h * fx * imb
         body[w, b, VY] -= h * fy * imb
-        body[w, b, W] -= h * (rbx * fy - rby * fx) * iib
+        body[w, b, OMEGA] -= h * (rbx * fy - rby * fx) * iib
 
 
 @kernel

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from . import settings as ctx_
+from . import settings
 from ._jit import JIT_DISABLED, clear_stale_cache, kernel, parallel_kernel
 from .broadphase import find_pairs
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
@@ -48,7 +48,7 @@ from .narrowphase import find_points
 from .projection import project_out_of_planes
 from .refusal import leaves_envelope, save_world
 from .sleep import update_sleep, wake_touched
-from .solver import restitution, solve, warm_start
+from .solver import relax, restitution, solve, warm_start
 from .state import (
     AWAKE,
     CONTACT_COUNT,
@@ -59,13 +59,13 @@ from .state import (
     GROSS_IMPULSE,
     KEPT_TORQUE,
     KINEMATIC,
+    OMEGA,
     PLANE,
     STEP_IMPULSE,
     STEPS,
     TORQUE,
     VX,
     VY,
-    W,
 )
 from .workspace import MOVING, views
 
@@ -103,7 +103,7 @@ def rest_step(body, contact, world_i, time, w, ctx) -> None:
     body[w, :, FX] = 0.0
     body[w, :, FY] = 0.0
     body[w, :, TORQUE] = 0.0
-    time[w] += ctx[ctx_.DT]
+    time[w] += ctx[settings.DT]
     world_i[w, STEPS] += 1
 
 
@@ -136,17 +136,17 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
 def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once."""
-    h = ctx[ctx_.H]
-    count = int(ctx[ctx_.SUBSTEPS])
+    h = ctx[settings.H]
+    count = int(ctx[settings.SUBSTEPS])
     for substep in range(count):
         integrate_velocities(body, w, terms)
         if ends.shape[0]:
             apply_springs(body, body_i, spring, ends, w, terms, h)
         warm_start(body, w, points, ids, n)
-        solve(body, w, ctx, terms, points, ids, n, True)
+        solve(body, w, ctx, terms, points, ids, n)
         integrate_positions(body, w, terms, h)
         follow_bodies(body, w, ctx, terms, points, ids, n)
-        solve(body, w, ctx, terms, points, ids, n, False, substep == count - 1)
+        relax(body, w, ctx, terms, points, ids, n, substep == count - 1)
     restitution(body, w, ctx, terms, points, ids, n)
 
 
@@ -167,14 +167,14 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
     for i in range(shapes.shape[0]):
         body[w, i, FX] = body[w, i, FY] = body[w, i, TORQUE] = 0.0
         if shapes[i, 1] == KINEMATIC and body_i[w, i, ENABLED] == 1:  # awake while it moves
-            moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, W] != 0.0
+            moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
             body_i[w, i, AWAKE] = 1 if moving else 0
-    if ctx[ctx_.SLEEPING] == 1.0:
+    if ctx[settings.SLEEPING] == 1.0:
         update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, scratch[8], scratch[9])
     if damaged:
         break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
     sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
-    time[w] += ctx[ctx_.DT]
+    time[w] += ctx[settings.DT]
     world_i[w, STEPS] += 1
 
 
@@ -200,7 +200,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         return NEEDS_ROOM
     if ends.shape[0]:
         measure = np.zeros(2)
-        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[ctx_.H], measure)
+        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[settings.H], measure)
         if worst >= 0:
             plan_row[BAD_SLOT] = worst
             return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING

@@ -32,6 +32,7 @@ from .state import (
     HALF_W,
     MASS,
     MOMENT,
+    OMEGA,
     POINT_X,
     POINT_Y,
     REST_LENGTH,
@@ -42,7 +43,6 @@ from .state import (
     VX,
     VY,
     Layout,
-    W,
     WorldState,
     X,
     Y,
@@ -126,7 +126,7 @@ def energy(state: WorldState, layout: Layout, gravity: np.ndarray) -> Energy:
     mass = np.where(counted, body[:, :, MASS], 0.0)
     moment = np.where(counted, body[:, :, MOMENT], 0.0)
     linear = 0.5 * (mass * (body[:, :, VX] ** 2 + body[:, :, VY] ** 2)).sum(axis=1)
-    rotational = 0.5 * (moment * body[:, :, W] ** 2).sum(axis=1)
+    rotational = 0.5 * (moment * body[:, :, OMEGA] ** 2).sum(axis=1)
     potential = -(mass * (gravity[0] * body[:, :, X] + gravity[1] * body[:, :, Y])).sum(axis=1)
     ends = layout.springs
     on = (ends[:, 0] >= 0)[None, :] & (state.spring[:, :, SPRING_ON] == 1.0)

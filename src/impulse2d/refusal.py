@@ -47,13 +47,13 @@ from .state import (
     CONTACT_I,
     ENABLED,
     FREE,
+    OMEGA,
     PLANE,
     SLEEP_TIME,
     TORQUE,
     VX,
     VY,
     WORLD_I,
-    W,
     X,
     Y,
 )
@@ -180,7 +180,7 @@ def leaves_envelope(body, body_i, shapes, w) -> tuple[int, int]:
         if shapes[i, 0] == PLANE or body_i[w, i, ENABLED] == 0 or body_i[w, i, AWAKE] == 0:
             continue
         x, y = body[w, i, X], body[w, i, Y]
-        vx, vy, omega = body[w, i, VX], body[w, i, VY], body[w, i, W]
+        vx, vy, omega = body[w, i, VX], body[w, i, VY], body[w, i, OMEGA]
         speed_squared = vx * vx + vy * vy
         if not (abs(x) <= envelope.COORDINATE and abs(y) <= envelope.COORDINATE):
             return i, POSITION if x == x and y == y else NOT_FINITE

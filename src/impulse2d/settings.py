@@ -18,8 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks
-from . import envelope as env
+from . import _checks, envelope
 
 MIXING_RULES = ("max", "min", "mean", "product", "sqrt")
 
@@ -84,13 +83,17 @@ class Settings:
     """What a ``World`` is set up with (see ``World`` for each one's meaning)."""
 
     restitution_threshold = _Setting(">= 0", "Impacts slower than this (m/s) do not bounce.")
-    contact_hertz = _Setting("> 0", "Stiffness of the overlap correction (Hz).", env.RATE, " Hz")
-    contact_damping_ratio = _Setting(">= 0", "Damping ratio of the overlap correction.", env.RATE)
+    contact_hertz = _Setting(
+        "> 0", "Stiffness of the overlap correction (Hz).", envelope.RATE, " Hz"
+    )
+    contact_damping_ratio = _Setting(
+        ">= 0", "Damping ratio of the overlap correction.", envelope.RATE
+    )
     contact_push_speed = _Setting(
-        "> 0", "Fastest push out of an overlap per contact (m/s).", env.SPEED, " m/s"
+        "> 0", "Fastest push out of an overlap per contact (m/s).", envelope.SPEED, " m/s"
     )
     speculative_distance = _Setting(
-        ">= 0", "Contacts are made this far (m) before touching.", env.SIZE[1], " m"
+        ">= 0", "Contacts are made this far (m) before touching.", envelope.SIZE[1], " m"
     )
     time_to_sleep = _Setting("> 0", "Seconds an island must be slow before it sleeps.")
     sleep_speed = _Setting(">= 0", "Bodies slower than this (m/s) count as resting.")
@@ -112,7 +115,7 @@ class Settings:
     @gravity.setter
     def gravity(self, value: Any) -> None:
         gravity = _checks.vector2("gravity", value)
-        _checks.magnitude_at_most("gravity", gravity, env.ACCELERATION, " m/s^2")
+        _checks.magnitude_at_most("gravity", gravity, envelope.ACCELERATION, " m/s^2")
         self._values["gravity"] = gravity
         self._context = None
 
@@ -171,7 +174,7 @@ class Settings:
         if cached is not None and cached[0] == dt and type(dt) is float:
             return cached[1]
         dt = _checks.positive("dt", dt)
-        _checks.within("dt", dt, *env.DT, unit=" s")
+        _checks.within("dt", dt, *envelope.DT, unit=" s")
         v = self._values
         h = dt / v["substeps"]
         # Box2D caps the contact stiffness at a quarter of the substep rate: stiffer than

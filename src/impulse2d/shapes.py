@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _checks, edit
-from . import envelope as env
+from . import _checks, edit, envelope
 from .state import (
     ANGLE,
     ANGULAR_DRAG,
@@ -40,13 +39,13 @@ from .state import (
     LINEAR_DRAG,
     MASS,
     MOMENT,
+    OMEGA,
     PLANE,
     RESTITUTION,
     ROLLING,
     SENSED,
     VX,
     VY,
-    W,
     X,
     Y,
 )
@@ -65,16 +64,16 @@ def per_world(values: np.ndarray, batch: int) -> Any:
 
 
 # Checks against the envelope (``impulse2d.envelope``), shared by the fields below.
-SIZE = partial(_checks.within, low=env.SIZE[0], high=env.SIZE[1], unit=" m")
-COORDINATE = partial(_checks.within, low=-env.COORDINATE, high=env.COORDINATE, unit=" m")
-SPEED = partial(_checks.magnitude_at_most, high=env.SPEED, unit=" m/s")
+SIZE = partial(_checks.within, low=envelope.SIZE[0], high=envelope.SIZE[1], unit=" m")
+COORDINATE = partial(_checks.within, low=-envelope.COORDINATE, high=envelope.COORDINATE, unit=" m")
+SPEED = partial(_checks.magnitude_at_most, high=envelope.SPEED, unit=" m/s")
 ANGULAR_SPEED = partial(
-    _checks.within, low=-env.ANGULAR_SPEED, high=env.ANGULAR_SPEED, unit=" rad/s"
+    _checks.within, low=-envelope.ANGULAR_SPEED, high=envelope.ANGULAR_SPEED, unit=" rad/s"
 )
-RESTITUTION_RANGE = partial(_checks.within, low=0.0, high=env.RESTITUTION)
-FRICTION_RANGE = partial(_checks.within, low=0.0, high=env.FRICTION)
-RATE = partial(_checks.within, low=0.0, high=env.RATE, unit=" 1/s")
-DECELERATION = partial(_checks.within, low=0.0, high=env.ACCELERATION, unit=" m/s^2")
+RESTITUTION_RANGE = partial(_checks.within, low=0.0, high=envelope.RESTITUTION)
+FRICTION_RANGE = partial(_checks.within, low=0.0, high=envelope.FRICTION)
+RATE = partial(_checks.within, low=0.0, high=envelope.RATE, unit=" 1/s")
+DECELERATION = partial(_checks.within, low=0.0, high=envelope.ACCELERATION, unit=" m/s^2")
 
 
 class _Field:
@@ -216,7 +215,7 @@ class Body(_Slot):
     position = _Field((X, Y), moves=True, limit=COORDINATE, doc="Centre of mass (m), settable.")
     velocity = _Field((VX, VY), limit=SPEED, doc="Linear velocity (m/s), settable.")
     angle = _Field((ANGLE,), moves=True, doc="Rotation (rad, counter-clockwise), settable.")
-    angular_velocity = _Field((W,), limit=ANGULAR_SPEED, doc="Angular velocity (rad/s, CCW).")
+    angular_velocity = _Field((OMEGA,), limit=ANGULAR_SPEED, doc="Angular velocity (rad/s, CCW).")
     mass = _Field((MASS,), rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
     restitution = _Field((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
     friction = _Field((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
@@ -293,7 +292,7 @@ class Body(_Slot):
             raise ValueError(f"mass of a dynamic body must be > 0, got {array[array <= 0].flat[0]}")
         # A fixed or kinematic body may keep mass 0 (it is never used); any other mass
         # must be in the envelope.
-        _checks.within("mass", array[array != 0.0], *env.MASS, unit=" kg")
+        _checks.within("mass", array[array != 0.0], *envelope.MASS, unit=" kg")
 
     # -- kind of body ----------------------------------------------------------------------
     @property

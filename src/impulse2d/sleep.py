@@ -16,7 +16,7 @@ neighbour slides away; islands prevent that.
 
 from __future__ import annotations
 
-from . import settings as ctx_
+from . import settings
 from ._jit import kernel
 from .integrate import spring_acts
 from .state import (
@@ -27,10 +27,10 @@ from .state import (
     DYNAMIC,
     ENABLED,
     ISLAND,
+    OMEGA,
     SLEEP_TIME,
     VX,
     VY,
-    W,
 )
 from .workspace import MOVABLE, MOVING, SPEED
 
@@ -108,12 +108,12 @@ def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blo
     the speed itself). Islands join bodies by every narrowphase point, touching or about
     to, not only those that pushed: contacts between bodies at rest push nothing, and
     islands cut along them would sleep in pieces, each woken again by its neighbour."""
-    dt, limit = ctx[ctx_.DT], ctx[ctx_.TIME_TO_SLEEP]
+    dt, limit = ctx[settings.DT], ctx[settings.TIME_TO_SLEEP]
     count = parents.size
     anyone = False
     for i in range(count):
         if terms[i, MOVABLE] == 1.0:
-            slow = terms[i, SPEED] < ctx[ctx_.SLEEP_SPEED]
+            slow = terms[i, SPEED] < ctx[settings.SLEEP_SPEED]
             body[w, i, SLEEP_TIME] = body[w, i, SLEEP_TIME] + dt if slow else 0.0
             anyone |= body[w, i, SLEEP_TIME] >= limit
     if not anyone:
@@ -136,4 +136,4 @@ def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blo
         if terms[i, MOVABLE] == 1.0 and blocked[_root(parents, i)] == 0:
             body_i[w, i, AWAKE] = 0
             body_i[w, i, ISLAND] = _root(parents, i)
-            body[w, i, VX] = body[w, i, VY] = body[w, i, W] = 0.0
+            body[w, i, VX] = body[w, i, VY] = body[w, i, OMEGA] = 0.0

@@ -4,18 +4,19 @@ One step of ``dt`` is split into ``substeps`` of ``h = dt / substeps``; each sub
 
 1. integrate velocities (gravity, forces, springs, drag) -- ``integrate.py``;
 2. ``warm_start``: apply the impulses accumulated so far;
-3. ``solve(use_bias=True)``: non-penetration with a *soft* position correction (a
-   spring-damper of ``contact_hertz``) plus Coulomb friction, point after point;
+3. ``solve``: non-penetration with a *soft* position correction (a spring-damper of
+   ``contact_hertz``) plus Coulomb friction, point after point;
 4. integrate positions -- ``integrate.py``;
-5. ``solve(use_bias=False)`` (the *relax* pass): the same without the position bias,
-   which removes the velocity the bias added, so pushing bodies apart does not make them
-   bounce.
+5. ``relax``: the same sweep without the position bias, which removes the velocity the
+   bias added, so pushing bodies apart does not make them bounce.
+
+Both are one sweep, ``sweep(..., use_bias, last)``, named by what they are for.
 
 After the substeps, ``restitution`` applies the bounce (all bouncing points at once).
 
 Speculative contacts (``separation > 0``) are hard: the closing speed is limited to
 ``separation / h``, so a body arrives at the surface and no further (in the last relax
-pass of a step they are left to the next step, see ``solve``). The separation of a
+pass of a step they are left to the next step, see ``solve_normal``). The separation of a
 point during the step is its separation at the start plus ``J . dq``, the motion of the
 two bodies along the normal since then (rotation linearised: ``dq`` is small).
 
@@ -28,9 +29,9 @@ from __future__ import annotations
 
 import math
 
-from . import settings as ctx_
+from . import settings
 from ._jit import inline, kernel
-from .state import ANGLE, VX, VY, W, X, Y
+from .state import ANGLE, OMEGA, VX, VY, X, Y
 from .workspace import (
     AGAINST_PLANE,
     ANGLE0,
@@ -85,10 +86,10 @@ def push(body, w, a, b, points, k, normal, tangent) -> None:
     py = normal * ny - tangent * nx
     body[w, a, VX] -= points[k, IMA] * px
     body[w, a, VY] -= points[k, IMA] * py
-    body[w, a, W] -= points[k, IIA] * (points[k, RNA] * normal + points[k, RTA] * tangent)
+    body[w, a, OMEGA] -= points[k, IIA] * (points[k, RNA] * normal + points[k, RTA] * tangent)
     body[w, b, VX] += points[k, IMB] * px
     body[w, b, VY] += points[k, IMB] * py
-    body[w, b, W] += points[k, IIB] * (points[k, RNB] * normal + points[k, RTB] * tangent)
+    body[w, b, OMEGA] += points[k, IIB] * (points[k, RNB] * normal + points[k, RTB] * tangent)
 
 
 @inline
@@ -97,10 +98,10 @@ def _along(body, w, a, b, dx, dy, cross_a, cross_b) -> float:
     ``rA x d`` and ``rB x d``: the relative velocity of the point along it."""
     return (
         -(dx * body[w, a, VX] + dy * body[w, a, VY])
-        - cross_a * body[w, a, W]
+        - cross_a * body[w, a, OMEGA]
         + dx * body[w, b, VX]
         + dy * body[w, b, VY]
-        + cross_b * body[w, b, W]
+        + cross_b * body[w, b, OMEGA]
     )
 
 
@@ -142,8 +143,8 @@ def warm_start(body, w, points, ids, n) -> None:
 
 @inline
 def solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
-    """Non-penetration at point ``k`` (see ``solve``)."""
-    inv_h, push_speed = ctx[ctx_.INV_H], ctx[ctx_.PUSH_SPEED]
+    """Non-penetration at point ``k`` (see ``sweep``)."""
+    inv_h, push_speed = ctx[settings.INV_H], ctx[settings.PUSH_SPEED]
     a, b = ids[k, 0], ids[k, 1]
     s = current_separation(body, w, a, b, points, k, terms)
     if s > 0.0:
@@ -195,10 +196,10 @@ def soft_row(body, w, ctx, terms, points, ids, k, use_bias):
     effective inverse mass, ``lambda`` its accumulated impulse), as in ``solve_normal``."""
     s = current_separation(body, w, ids[k, 0], ids[k, 1], points, k, terms)
     if s > 0.0:
-        return 1.0, s * ctx[ctx_.INV_H], 0.0
+        return 1.0, s * ctx[settings.INV_H], 0.0
     if use_bias:
         mass_scale = points[k, MASS_SCALE]
-        bias = max(mass_scale * points[k, BIAS_RATE] * s, -ctx[ctx_.PUSH_SPEED])
+        bias = max(mass_scale * points[k, BIAS_RATE] * s, -ctx[settings.PUSH_SPEED])
         return mass_scale, bias, points[k, IMPULSE_SCALE]
     return 1.0, 0.0, 0.0
 
@@ -278,7 +279,7 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
     pairs, settled over many steps by the warm start, one after the other, which costs
     a third as much (Box2D v3 has no block solver at all)."""
     coupled = False
-    threshold = ctx[ctx_.RESTITUTION_THRESHOLD]
+    threshold = ctx[settings.RESTITUTION_THRESHOLD]
     start = 0
     while start < n:  # a pair's points are neighbours
         end = start + 1
@@ -300,7 +301,20 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
 
 
 @kernel
-def solve(body, w, ctx, terms, points, ids, n, use_bias, last=False) -> None:
+def solve(body, w, ctx, terms, points, ids, n) -> None:
+    """The biased sweep of a substep: contacts pushed apart softly (``sweep``)."""
+    sweep(body, w, ctx, terms, points, ids, n, True, False)
+
+
+@kernel
+def relax(body, w, ctx, terms, points, ids, n, last_substep) -> None:
+    """The relax sweep of a substep, without the position bias (``sweep``);
+    ``last_substep``: the step's last, which leaves lone untouched points alone."""
+    sweep(body, w, ctx, terms, points, ids, n, False, last_substep)
+
+
+@kernel
+def sweep(body, w, ctx, terms, points, ids, n, use_bias, last) -> None:
     """One Gauss-Seidel sweep over the pairs, in order: non-penetration at each of a
     pair's points, then friction at each, within the cone of the normal impulse.
 
@@ -364,7 +378,7 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
     which the solver's own passes leave a few per cent short of for an impact that
     happens within one step (two boxes meeting face to face would part again instead of
     moving on together)."""
-    threshold, h = ctx[ctx_.RESTITUTION_THRESHOLD], ctx[ctx_.H]
+    threshold, h = ctx[settings.RESTITUTION_THRESHOLD], ctx[settings.H]
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         eligible = points[k, APPROACH_SPEED] < -threshold and points[k, MAX_J] > 0.0

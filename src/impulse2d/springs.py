@@ -15,8 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _checks, edit
-from . import envelope as env
+from . import _checks, edit, envelope
 from .shapes import Part, per_world
 from .state import ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, DAMPING, REST_LENGTH, STIFFNESS
 
@@ -25,8 +24,8 @@ if TYPE_CHECKING:
 
 # Anchors and lengths within the envelope's coordinates (``impulse2d.envelope``); the
 # stiffness and damping are bounded by the stability check of every step instead.
-_LENGTH = partial(_checks.within, low=0.0, high=2.0 * env.COORDINATE, unit=" m")
-_ANCHOR = partial(_checks.within, low=-env.COORDINATE, high=env.COORDINATE, unit=" m")
+_LENGTH = partial(_checks.within, low=0.0, high=2.0 * envelope.COORDINATE, unit=" m")
+_ANCHOR = partial(_checks.within, low=-envelope.COORDINATE, high=envelope.COORDINATE, unit=" m")
 _NON_NEGATIVE = partial(_checks.batched_rule, rule=">= 0")
 
 # name -> (columns of state.spring, shape of one value, check(name, array))

@@ -41,7 +41,7 @@ DYNAMIC, KINEMATIC, FIXED = 0, 1, 2
 
 # -- body: float columns ------------------------------------------------------------------
 X, Y, ANGLE = 0, 1, 2  # centre of mass (m) and rotation (rad, counter-clockwise)
-VX, VY, W = 3, 4, 5  # velocity (m/s) and angular velocity (rad/s)
+VX, VY, OMEGA = 3, 4, 5  # velocity (m/s) and angular velocity (rad/s)
 FX, FY, TORQUE = 6, 7, 8  # applied force (N) and torque (N m), cleared after each step
 MASS, INV_MASS = 9, 10  # kg as given; 1/kg, 0 for fixed and kinematic bodies
 MOMENT, INV_MOMENT = 11, 12  # kg m^2 about the centre; its inverse, 0 if not dynamic
