@@ -124,8 +124,8 @@ def _restore(saved, state, w):
 @numba.njit(nogil=True)
 def _collide(body, body_i, shapes, w, ctx, scratch) -> int:
     """Broadphase and narrowphase once; the point count, or ``NEEDS_ROOM``."""
-    terms, points, ids = scratch[0], scratch[1], scratch[3]
-    pairs, sorted_pairs, buckets = scratch[5], scratch[6], scratch[7]
+    terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
+    pairs, sorted_pairs, buckets = scratch.pairs, scratch.sorted_pairs, scratch.buckets
     n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, sorted_pairs, buckets)
     if n_pairs > pairs.shape[0]:
         return NEEDS_ROOM
@@ -145,12 +145,14 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
         if stages == ALL:
             pipeline.rest_step(body, contact, world_i, time, w, ctx)
         return 0
-    terms, points, ids, pairs = scratch[0], scratch[1], scratch[3], scratch[5]
+    terms, points, ids, pairs = scratch.terms, scratch.points, scratch.point_ids, scratch.pairs
     step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
     if stages < 2:
         return 0
     if stages == 2:
-        n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, scratch[6], scratch[7])
+        n_pairs = find_pairs(
+            body, body_i, shapes, w, ctx, terms, pairs, scratch.sorted_pairs, scratch.buckets
+        )
         return NEEDS_ROOM if n_pairs > pairs.shape[0] else 0
     n = _collide(body, body_i, shapes, w, ctx, scratch)
     if n < 0 or stages == 3:

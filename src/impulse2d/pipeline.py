@@ -112,8 +112,8 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
     """Broadphase and narrowphase, waking the islands a moving body touches and looking
     again with them awake, until nothing more wakes. Returns the number of points, or -1
     when the scratch rows are too small (the plan row says how much is needed)."""
-    terms, points, ids = scratch[0], scratch[1], scratch[3]
-    pairs, sorted_pairs, buckets = scratch[5], scratch[6], scratch[7]
+    terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
+    pairs, sorted_pairs, buckets = scratch.pairs, scratch.sorted_pairs, scratch.buckets
     sleeping = False  # nothing asleep (a rain with sleeping off): nothing to wake
     for i in range(shapes.shape[0]):
         dynamic_off = shapes[i, 1] == DYNAMIC and shapes[i, 0] != PLANE and terms[i, MOVING] == 0.0
@@ -154,13 +154,8 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
 def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
     """Everything after the solver: contacts, events, forces, sleep, the clock."""
     body, body_i, spring, sensor, contact, contact_i, world_i, time = state
-    terms, points, merged, ids, merged_ids = (
-        scratch[0],
-        scratch[1],
-        scratch[2],
-        scratch[3],
-        scratch[4],
-    )
+    terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
+    merged, merged_ids = scratch.merged, scratch.merged_ids
     store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids)
     damaged = record_contacts(body, body_i, w, ctx, points, ids, n)
     refresh_rotation(body, shapes, w, terms)
@@ -170,7 +165,8 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
             moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
             body_i[w, i, AWAKE] = 1 if moving else 0
     if ctx[settings.SLEEPING] == 1.0:
-        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, scratch[8], scratch[9])
+        islands = scratch.parents, scratch.members
+        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, *islands)
     if damaged:
         break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
     sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
@@ -189,7 +185,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     if at_rest(body_i, shapes, w):
         rest_step(body, contact, world_i, time, w, ctx)
         return RUNNING
-    terms, points, ids = scratch[0], scratch[1], scratch[3]
+    terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
     n = collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row)
     if n < 0:

@@ -38,6 +38,8 @@ feature), one row per contact point of the step, sorted by (A, B, feature):
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ._jit import kernel
@@ -99,10 +101,25 @@ class Workspace:
         )
 
 
+class Scratch(NamedTuple):
+    """One scratch row cut into its named arrays (``views``); numba passes it as a
+    tuple, so a kernel reads ``scratch.points`` and nothing is copied."""
+
+    terms: np.ndarray  # (N, TERMS) per-body step terms
+    points: np.ndarray  # (C, POINT_F) this step's contact points
+    merged: np.ndarray  # (C, MERGED_F) the contact cache being written
+    point_ids: np.ndarray  # (C, 3) body A, body B, feature of each point
+    merged_ids: np.ndarray  # (C, 3) the same for the cache being written
+    pairs: np.ndarray  # (P, 2) candidate pairs from the broadphase
+    sorted_pairs: np.ndarray  # (P, 2) room to sort them
+    buckets: np.ndarray  # (N + 1,) the pairs' counting sort by first body
+    parents: np.ndarray  # (N,) islands: union-find parents (sleep)
+    members: np.ndarray  # (N,) islands: members in order (sleep)
+
+
 @kernel
 def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs: int):
-    """Cut one scratch row into ``(terms, points, merged, point_ids, merged_ids, pairs,
-    sorted_pairs, buckets, parents, members)``."""
+    """Cut one scratch row into its arrays (``Scratch``)."""
     at = 0
     terms = floats[at : at + bodies * TERMS].reshape(bodies, TERMS)
     at += bodies * TERMS
@@ -123,15 +140,7 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     parents = ints[at : at + bodies]
     at += bodies
     members = ints[at : at + bodies]
-    return (
-        terms,
-        point_rows,
-        merged,
-        point_ids,
-        merged_ids,
-        pair_rows,
-        sorted_pairs,
-        buckets,
-        parents,
-        members,
-    )
+    return Scratch(
+        terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
+        parents, members,
+    )  # fmt: skip
