@@ -1,14 +1,18 @@
-"""Speed benchmark: impulse2d against pymunk (C Chipmunk2D) on the shared scenes, in one run.
+"""Speed benchmark: impulse2d against pymunk (C Chipmunk2D) and Box2D v3 on the shared scenes.
 
 The scenes come from ``bench/scenes.py``, the pymunk side from ``bench/pymunk_peer.py``, the
-impulse2d side from ``bench/engine_runs.py`` and the table's sections, which time both
-engines, from ``bench/engine_rows.py``; this module runs them in one process and prints one
-table with the two engines side by side and their ratio (always impulse2d / pymunk, so for
-a rate higher is better and for a time lower is better).
+Box2D v3 side (``pyb2d3``) from ``bench/box2d_peer.py``, the impulse2d side from
+``bench/engine_runs.py`` and the table's sections, which time the engines, from
+``bench/engine_rows.py``; this module runs them in one process and prints one table with
+the engines side by side and the ratios impulse2d / pymunk and impulse2d / Box2D (so for
+a rate higher is better and for a time lower is better). Box2D runs the pyramids, the rain
+and its own ``large_pyramid`` benchmark, not the pool break (``box2d_peer`` says why); its
+column says "not installed" without pyb2d3.
 
 impulse2d's step is compiled (numba): every ``World.step`` is one compiled call, and a
 batch is stepped on ``World.threads`` threads (default: every core numba sees, printed in
-the header; a single world always uses one). pymunk runs in this one process.
+the header; a single world always uses one). pymunk runs in this one process, Box2D on one
+thread (no thread pool).
 
 * Pool break (16 balls, dt = 1/120, 1,200 steps) at 1 world and at ``--worlds`` worlds
   (default 1,024): world-steps/s and us per world-step, with impulse2d's default sleeping
@@ -21,11 +25,18 @@ the header; a single world always uses one). pymunk runs in this one process.
   at y = offset_i, offsets uniform in +-1 cm, ``scenes.pool_cue_offsets``), the realistic
   RL case; impulse2d sleeping on (its default), pymunk sleeping off as elsewhere.
 * Box pyramids of base 10 and 20 (dt = 1/60): ms/step over 300 steps, and the top box's
-  drift after 600 steps (10 s), impulse2d with sleeping off and its default 4 substeps.
+  drift after 600 steps (10 s), impulse2d with sleeping off and its default 4 substeps,
+  Box2D with 4 substeps and sleeping off, pymunk 10 iterations.
 * Rain of 250, 1,000 and 4,000 circles and boxes onto the ground at the same density
   (``scenes.rain``, dt = 1/60): ms/step over 120 steps after 60 untimed ones, and in the
   notes how the impulse2d time grows from the previous count (linear, not quadratic,
-  scaling); impulse2d sleeping off and default substeps, pymunk defaults.
+  scaling); impulse2d sleeping off and default substeps, pymunk defaults, Box2D 4 substeps
+  and sleeping off.
+* Box2D v3's ``large_pyramid`` benchmark (``scenes.large_pyramid``: 100 rows, 5,050 boxes,
+  gravity -10, dt = 1/60), impulse2d and Box2D only, both 4 substeps and sleeping off:
+  ms/step over its 500 steps from the first, and after them the apex's sink and the
+  boxes' sideways creep (largest |dx|, boxes past 0.25 m). About 15 s in all;
+  ``--no-large`` skips it, ``--large-budget`` caps the seconds impulse2d's steps are timed.
 
 The issue's targets are checked in the notes of their rows (``engine_rows.py`` lists them).
 Checks printed with the table: momentum of the pool break against the analytic
@@ -34,9 +45,9 @@ the largest ball-ball overlap and cushion penetration seen during the break, tha
 world 0 of the batch ends bitwise equal to the single world, and that worlds of the
 varied-shot batch end bitwise equal to single worlds built at their offsets.
 
-Run ``python bench/bench_engine.py`` (about a minute on 2 cores; building the 4,000-body
-rain world takes about a second, ``World.add`` ~0.3 ms a body), ``--quick`` for a smoke
-test, ``--positions`` for the final ball positions of both engines, ``--profile`` for the
+Run ``python bench/bench_engine.py`` (about a minute and a half on 2 cores; building the
+4,000-body rain world takes about a second, ``World.add`` ~0.3 ms a body), ``--quick`` for
+a smoke test, ``--positions`` for the final ball positions of both engines, ``--profile`` for the
 per-stage profile of the compiled step (``bench/profile_step.py``) instead of the table.
 """
 
@@ -56,7 +67,7 @@ from impulse2d.runner import available_threads
 # _pool_world and _pyramid_world are re-exported: bench_render.py and solver_choice.py import
 # these world builders from here.
 try:  # imported as part of the repo (``bench.bench_engine``) ...
-    from bench import engine_rows, profile_step
+    from bench import box2d_peer, engine_rows, profile_step
     from bench.engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
     from bench.engine_runs import (
         POOL_RESTITUTION_THRESHOLD,
@@ -70,8 +81,9 @@ try:  # imported as part of the repo (``bench.bench_engine``) ...
     from bench.engine_runs import _pool_world as _pool_world
     from bench.engine_runs import _pyramid_world as _pyramid_world
     from bench.report import print_table, source_version
-    from bench.scenes import pool_break, pyramid, rain, validate
+    from bench.scenes import LATERAL_CREEP_M, large_pyramid, pool_break, pyramid, rain, validate
 except ImportError:  # ... or run as a script, with bench/ on sys.path
+    import box2d_peer
     import engine_rows
     import profile_step
     from engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
@@ -87,7 +99,7 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
     from engine_runs import _pool_world as _pool_world
     from engine_runs import _pyramid_world as _pyramid_world
     from report import print_table, source_version
-    from scenes import pool_break, pyramid, rain, validate
+    from scenes import LATERAL_CREEP_M, large_pyramid, pool_break, pyramid, rain, validate
 
 # -- benchmark settings (the sections' own are in engine_rows.py) ----------------------------
 DEFAULT_WORLDS = 1024
@@ -98,6 +110,8 @@ BATCH_REPEATS = 5  # batch runs of each engine, alternating; the median is repor
 RAIN_REPEATS = 3  # timed window of the rain scenes, both engines (1 with --quick)
 RAIN_COUNTS = (250, 1000, 4000)
 RAIN_COUNTS_QUICK = (250, 1000)
+LARGE_STEPS_QUICK = 60  # large_pyramid steps with --quick (the scene's own 500 otherwise)
+LARGE_BUDGET_S = 60.0  # seconds of impulse2d's large_pyramid stepping that are timed
 
 
 # -- setup -----------------------------------------------------------------------------------
@@ -109,6 +123,18 @@ def _parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--budget", type=float, default=BATCH_BUDGET_S, help="seconds per impulse2d batch run"
     )
     parser.add_argument("--positions", action="store_true", help="print final ball positions")
+    parser.add_argument(
+        "--no-large",
+        action="store_true",
+        help="skip Box2D's large_pyramid benchmark (5,050 boxes, 500 steps; ~15 s of the run)",
+    )
+    parser.add_argument(
+        "--large-budget",
+        type=float,
+        default=LARGE_BUDGET_S,
+        help="seconds of impulse2d's large_pyramid steps that are timed (the rest of the 500 "
+        "run untimed; the settling is always measured after 500)",
+    )
     parser.add_argument(
         "--profile",
         action="store_true",
@@ -131,6 +157,7 @@ def _plan(args: argparse.Namespace) -> Plan:
     validate(scene)
     pyr_steps, drift_steps = (60, 120) if args.quick else (300, 600)
     rain_counts = RAIN_COUNTS_QUICK if args.quick else RAIN_COUNTS
+    large = large_pyramid()
     return Plan(
         quick=args.quick,
         budget=args.budget,
@@ -147,6 +174,8 @@ def _plan(args: argparse.Namespace) -> Plan:
         rain_counts=rain_counts,
         rain_repeats=1 if args.quick else RAIN_REPEATS,
         rain_scene=rain(rain_counts[0]),
+        large_steps=0 if args.no_large else (LARGE_STEPS_QUICK if args.quick else large.steps),
+        large_budget=args.large_budget,
     )
 
 
@@ -156,13 +185,13 @@ def _print_setup(plan: Plan) -> None:
 
     scene, pool_steps, dt_pyr = plan.scene, plan.pool_steps, plan.dt_pyr
     pyr_steps, drift_steps, rain_repeats = plan.pyr_steps, plan.drift_steps, plan.rain_repeats
-    print("impulse2d vs pymunk" + (" (--quick)" if plan.quick else ""))
+    print("impulse2d vs pymunk and Box2D v3" + (" (--quick)" if plan.quick else ""))
     print(
         f"python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}, "
         f"pymunk {pymunk.version} (Chipmunk {pymunk.chipmunk_version[:5]}), {os.cpu_count()} "
         f"CPUs, load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} at start"
     )
-    print(source_version())
+    print(f"Box2D v3: {box2d_peer.version()}; {source_version()}")
     print(
         f"threads: impulse2d steps a batch on {plan.threads} (World.threads, its default: "
         f"every core numba sees; impulse2d.runner.available_threads() = "
@@ -195,26 +224,57 @@ def _print_setup(plan: Plan) -> None:
         f"sleeping={RAIN_SLEEPING}, default substeps, ground a Plane; pymunk defaults "
         "(10 iterations, no sleeping, collision_slop 0.1), ground a static box"
     )
+    _print_box2d_setup(plan)
     print(
         "timing: perf_counter around the stepping only, after a warm-up step on a separate "
         f"world; single-world pool: median of {plan.single_repeats} (impulse2d) / "
         f"{PYMUNK_SINGLE_REPEATS} (pymunk) runs; batch pool: median of "
         f"{plan.batch_repeats} runs of each; pyramids: median of "
-        f"{PYRAMID_REPEATS}; rain: "
+        f"{PYRAMID_REPEATS} (Box2D too); rain: "
         + (
             f"median of {rain_repeats} (impulse2d: windows restored from a snapshot after the "
-            "untimed steps; pymunk: fresh spaces)"
+            "untimed steps; pymunk and Box2D: fresh worlds)"
             if rain_repeats > 1
             else "one run"
         )
     )
 
 
+def _print_box2d_setup(plan: Plan) -> None:
+    """Print what Box2D runs and how (or that pyb2d3 is missing)."""
+    large = large_pyramid()
+    print(
+        f"large_pyramid (Box2D v3's benchmark): {large.n_boxes:,} boxes {large.box_size} m / "
+        f"{large.box_mass} kg touching side by side, mu={large.friction}, gravity "
+        f"{large.gravity[1]:g}, dt=1/{1 / large.dt:.0f}, "
+        + (
+            f"{plan.large_steps} steps timed from the first (impulse2d: at most "
+            f"{plan.large_budget:g} s of them), then the apex's sink and the sideways creep "
+            f"(max |dx|, boxes past {LATERAL_CREEP_M:g} m); impulse2d and Box2D only"
+            if plan.large_steps
+            else "skipped (--no-large)"
+        )
+    )
+    if not box2d_peer.AVAILABLE:
+        print("  Box2D v3: pyb2d3 not installed (pip install -e '.[bench]'): its column is empty")
+        return
+    print(
+        f"  Box2D v3 (via {box2d_peer.version()}): pyramids, rain and large_pyramid, "
+        f"world.step(dt, {box2d_peer.SUBSTEPS}) (4 substeps, as its samples), sleeping off, "
+        "default contact softness (30 Hz, damping ratio 10, push-out 3 m/s), continuous "
+        "collision on, one thread (no thread pool); friction mixed sqrt(f1 f2), restitution "
+        "max; ground the scenes' static box; not the pool break (its min restitution mixing "
+        "needs a callback pyb2d3 lacks)"
+    )
+
+
 # -- results ---------------------------------------------------------------------------------
 def _print_table(rows: list[tuple[str, ...]]) -> None:
-    header = ("scene", "worlds", "impulse2d", "pymunk", "ratio", "notes")
-    align = ("<", ">", ">", ">", ">", "<")
-    print_table(header, align, rows)
+    """The table; rows without Box2D cells (the pool break's) get "-" in its columns."""
+    header = ("scene", "worlds", "impulse2d", "pymunk", "ratio", "Box2D v3", "ratio B2", "notes")
+    align = ("<", ">", ">", ">", ">", ">", ">", "<")
+    full = [r if len(r) == len(header) else (*r[:-1], "-", "-", r[-1]) for r in rows]
+    print_table(header, align, full)
 
 
 def _print_results(plan: Plan, rows: list[Row], imp: Runs, pm1: dict) -> None:
@@ -260,6 +320,7 @@ def main(argv: list[str] | None = None) -> None:
     engine_rows.pool_varied_shots(plan, imp, rows)
     engine_rows.pyramids(plan, rows)
     engine_rows.rains(plan, rows)
+    engine_rows.large_pyramid(plan, rows)
     _print_results(plan, rows, imp, pm1)
     print(
         f"\ntotal wall time {time.perf_counter() - t_start:.1f} s; load average "

@@ -4,7 +4,9 @@ Each section runs impulse2d (``bench/engine_runs.py``) and pymunk (``bench/pymun
 on one scene as the :class:`Plan` says, and appends its rows to the table: the pool break at
 one world (a Python call of ``World.step`` a step, then the whole break in one compiled
 call) and in a batch (and with one substep), the batch against the single world, the
-pool-break checks, the varied-shot batch, the pyramids and the rain. ``bench_engine.main``
+pool-break checks, the varied-shot batch, the pyramids and the rain. The pyramids and the
+rain also run in Box2D v3 (``bench/box2d_peer.py``), and a last section runs Box2D's own
+``large_pyramid`` benchmark in impulse2d and Box2D only (pymunk: "-"). ``bench_engine.main``
 calls them in that order and prints the table.
 
 The issue's targets are checked in the notes of their rows ("target ...: ok" or "MISS"):
@@ -16,17 +18,20 @@ default threads, pymunk in one process) and the 4,000-body rain no slower than p
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 try:  # imported as part of the repo (``bench.engine_rows``) ...
-    from bench import pymunk_peer
+    from bench import box2d_peer, pymunk_peer
     from bench.engine_runs import (
         POOL_SUBSTEPS,
         _single_positions,
         _stage,
+        large_pyramid_impulse2d,
         pool_break_impulse2d,
         pool_break_one_call,
         pool_check_impulse2d,
@@ -35,13 +40,15 @@ try:  # imported as part of the repo (``bench.engine_rows``) ...
         rain_impulse2d,
     )
     from bench.report import fmt, ratio
-    from bench.scenes import PoolBreak, Rain, pool_cue_offsets
+    from bench.scenes import LATERAL_CREEP_M, PoolBreak, Rain, pool_cue_offsets
 except ImportError:  # ... or run as a script, with bench/ on sys.path
+    import box2d_peer
     import pymunk_peer
     from engine_runs import (
         POOL_SUBSTEPS,
         _single_positions,
         _stage,
+        large_pyramid_impulse2d,
         pool_break_impulse2d,
         pool_break_one_call,
         pool_check_impulse2d,
@@ -50,11 +57,11 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
         rain_impulse2d,
     )
     from report import fmt, ratio
-    from scenes import PoolBreak, Rain, pool_cue_offsets
+    from scenes import LATERAL_CREEP_M, PoolBreak, Rain, pool_cue_offsets
 
 # -- settings of the sections (the others are in bench_engine.py) ----------------------------
 PYMUNK_SINGLE_REPEATS = 7  # single-world pymunk runs take milliseconds
-PYRAMID_REPEATS = 3  # timed part of the pyramids, both engines
+PYRAMID_REPEATS = 3  # timed part of the pyramids, every engine
 # The issue's targets: ratios impulse2d / pymunk.
 SINGLE_RATIO_TARGET = 2.0  # pool break, one world, us/world-step: at most (stretch: below 1)
 PYRAMID_TARGET_BASE = 20
@@ -63,7 +70,9 @@ VARIED_RATIO_TARGET = 2.0  # varied shots, world-steps/s: at least
 RAIN_TARGET_COUNT = 4000
 RAIN_RATIO_TARGET = 1.0  # its ms/step: at most
 
-Row = tuple[str, ...]  # one line of the table: scene, worlds, impulse2d, pymunk, ratio, notes
+# One line of the table: scene, worlds, impulse2d, pymunk, ratio, notes; the rows Box2D runs
+# in have two more cells before the notes, Box2D v3 and impulse2d / Box2D (see box2d_cells).
+Row = tuple[str, ...]
 Runs = dict[tuple[int, bool], dict]  # impulse2d's pool runs by (worlds, sleeping)
 
 
@@ -86,6 +95,8 @@ class Plan:
     rain_counts: tuple[int, ...]
     rain_repeats: int
     rain_scene: Rain  # the smallest rain, for its description and step counts
+    large_steps: int  # steps of the large_pyramid scene (0: not run)
+    large_budget: float  # seconds of impulse2d's large_pyramid timed; the rest runs untimed
 
 
 def _paired_runs(first: Any, second: Any, repeats: int) -> tuple[dict, dict]:
@@ -428,21 +439,60 @@ def _varied_matches_single(plan: Plan, var: dict, pmV: dict, offsets: np.ndarray
     )
 
 
+# -- Box2D v3 columns -------------------------------------------------------------------------
+NOT_INSTALLED = "not installed"
+
+
+def _median_ms(run: Callable[[], dict], repeats: int) -> dict:
+    """Run a benchmark ``repeats`` times and keep the run of median ms/step."""
+    runs = sorted((run() for _ in range(repeats)), key=lambda r: r["ms_per_step"])
+    return runs[len(runs) // 2]
+
+
+def _box2d_run(run: Callable[[], dict], repeats: int) -> dict | None:
+    """:func:`_median_ms` of a Box2D benchmark, or None when pyb2d3 is not installed."""
+    return _median_ms(run, repeats) if box2d_peer.AVAILABLE else None
+
+
+def box2d_cells(
+    imp: float, b2: float | None, cell: Callable[[float], str] = fmt
+) -> tuple[str, str]:
+    """The Box2D v3 value and the ratio impulse2d / Box2D, or "not installed" and "-"."""
+    if b2 is None:
+        return NOT_INSTALLED, "-"
+    return cell(b2), ratio(imp, b2)
+
+
+def _drift(value: float) -> str:
+    """A distance cell (m), to 0.1 mm as the pyramid rows have always been printed."""
+    return f"{value:.4f}"
+
+
+def _who(b2: dict | None) -> str:
+    """Which engines a note's "a / b / c" lists, in order."""
+    return "impulse2d / pymunk" + (" / Box2D" if b2 else "")
+
+
 # -- pyramids --------------------------------------------------------------------------------
 def pyramids(plan: Plan, rows: list[Row]) -> None:
-    """Box pyramids of base 10 and 20: time per step and drift, both engines; the targets
-    are for base 20."""
+    """Box pyramids of base 10 and 20: time per step and drift, every engine; the targets
+    (against pymunk) are for base 20."""
     pyr_steps, drift_steps = plan.pyr_steps, plan.drift_steps
     for base in (10, 20):
         _stage(f"pyramid base {base}")
         ri = pyramid_impulse2d(base, pyr_steps, drift_steps, repeats=PYRAMID_REPEATS)
-        pm_runs = [pymunk_peer.pyramid_pymunk(base, pyr_steps, drift_steps) for _ in range(3)]
-        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[1]
+        rp = _median_ms(
+            partial(pymunk_peer.pyramid_pymunk, base, pyr_steps, drift_steps), PYRAMID_REPEATS
+        )
+        rb = _box2d_run(
+            partial(box2d_peer.pyramid_box2d, base, pyr_steps, drift_steps), PYRAMID_REPEATS
+        )
         speed_note = drift_note = ""
         if base == PYRAMID_TARGET_BASE:
             fast = ri["ms_per_step"] / rp["ms_per_step"] <= PYRAMID_RATIO_TARGET
             speed_note = f"target ratio <= {PYRAMID_RATIO_TARGET:g}: {_ok(fast)}; "
             drift_note = f"target <= pymunk: {_ok(ri['top_drift_m'] <= rp['top_drift_m'])}; "
+        b2_max = f" / {rb['max_drift_m']:.4f}" if rb else ""
         rows.append(
             (
                 f"pyramid base {base}: ms/step",
@@ -450,6 +500,7 @@ def pyramids(plan: Plan, rows: list[Row]) -> None:
                 fmt(ri["ms_per_step"]),
                 fmt(rp["ms_per_step"]),
                 ratio(ri["ms_per_step"], rp["ms_per_step"]),
+                *box2d_cells(ri["ms_per_step"], rb and rb["ms_per_step"]),
                 f"{speed_note}first {pyr_steps} steps, a World.step call a step",
             )
         )
@@ -457,29 +508,73 @@ def pyramids(plan: Plan, rows: list[Row]) -> None:
             (
                 f"pyramid base {base}: top drift (m)",
                 "1",
-                f"{ri['top_drift_m']:.4f}",
-                f"{rp['top_drift_m']:.4f}",
+                _drift(ri["top_drift_m"]),
+                _drift(rp["top_drift_m"]),
                 ratio(ri["top_drift_m"], rp["top_drift_m"]),
+                *box2d_cells(ri["top_drift_m"], rb and rb["top_drift_m"], _drift),
                 f"after {drift_steps * plan.dt_pyr:g} s; {drift_note}max drift "
-                f"{ri['max_drift_m']:.4f} / {rp['max_drift_m']:.4f} m; finite: {ri['finite']}",
+                f"{ri['max_drift_m']:.4f} / {rp['max_drift_m']:.4f}{b2_max} m ({_who(rb)}); "
+                f"finite: {ri['finite']}",
             )
         )
 
 
+def large_pyramid(plan: Plan, rows: list[Row]) -> None:
+    """Box2D v3's ``large_pyramid`` benchmark (5,050 boxes, ``plan.large_steps`` steps) in
+    impulse2d and Box2D: ms/step, and how far the pyramid has settled after the last step
+    (apex sink, largest sideways movement, boxes that crept). pymunk does not run it."""
+    if not plan.large_steps:
+        return
+    steps = plan.large_steps
+    _stage(f"large_pyramid, 5,050 boxes, {steps} steps (impulse2d, then Box2D)")
+    ri = large_pyramid_impulse2d(steps, plan.large_budget)
+    rb = _box2d_run(partial(box2d_peer.large_pyramid_box2d, steps), 1)
+    timed = (
+        f"first {ri['timed_steps']} of {steps} steps timed (budget {plan.large_budget:g} s)"
+        if ri["timed_steps"] < steps
+        else f"{steps} steps timed"
+    )
+    creep = "max |dx| {:.3f} m, {} boxes moved > {:g} m sideways"
+    b2_creep = creep.format(rb["max_dx_m"], rb["crept"], LATERAL_CREEP_M) if rb else NOT_INSTALLED
+    rows.append(
+        (
+            "large_pyramid (5,050 boxes): ms/step",
+            "1",
+            fmt(ri["ms_per_step"]),
+            "-",
+            "-",
+            *box2d_cells(ri["ms_per_step"], rb and rb["ms_per_step"]),
+            f"{timed}, from the first; impulse2d median step {ri['median_step_ms']:.3g} ms, "
+            f"build {ri['build_s']:.1f} s (untimed)" + ("; Box2D one thread" if rb else ""),
+        )
+    )
+    rows.append(
+        (
+            "large_pyramid: apex sink (m)",
+            "1",
+            _drift(ri["apex_sink_m"]),
+            "-",
+            "-",
+            *box2d_cells(ri["apex_sink_m"], rb and rb["apex_sink_m"], _drift),
+            f"after {steps} steps ({steps * plan.dt_pyr:.3g} s); impulse2d "
+            f"{creep.format(ri['max_dx_m'], ri['crept'], LATERAL_CREEP_M)}; Box2D {b2_creep}; "
+            f"finite: {ri['finite'] and (rb is None or rb['finite'])}",
+        )
+    )
+
+
 # -- rain: cost against scene size -----------------------------------------------------------
 def rains(plan: Plan, rows: list[Row]) -> None:
-    """The rain at each of ``plan.rain_counts`` bodies: time per step, both engines, and how
+    """The rain at each of ``plan.rain_counts`` bodies: time per step, every engine, and how
     it grows from the previous count."""
     rain_scene, rain_repeats = plan.rain_scene, plan.rain_repeats
+    steps, settle = rain_scene.steps, rain_scene.settle_steps
     previous: tuple[int, dict, dict] | None = None
     for count in plan.rain_counts:
-        _stage(f"rain {count} bodies (impulse2d builds, settles and steps, then pymunk)")
-        ri = rain_impulse2d(count, rain_scene.steps, rain_scene.settle_steps, repeats=rain_repeats)
-        pm_runs = [
-            pymunk_peer.rain_pymunk(count, rain_scene.steps, rain_scene.settle_steps)
-            for _ in range(rain_repeats)
-        ]
-        rp = sorted(pm_runs, key=lambda r: r["ms_per_step"])[rain_repeats // 2]
+        _stage(f"rain {count} bodies (impulse2d builds, settles and steps, then pymunk, Box2D)")
+        ri = rain_impulse2d(count, steps, settle, repeats=rain_repeats)
+        rp = _median_ms(partial(pymunk_peer.rain_pymunk, count, steps, settle), rain_repeats)
+        rb = _box2d_run(partial(box2d_peer.rain_box2d, count, steps, settle), rain_repeats)
         growth = ""
         if count == RAIN_TARGET_COUNT:
             met = ri["ms_per_step"] / rp["ms_per_step"] <= RAIN_RATIO_TARGET
@@ -490,6 +585,7 @@ def rains(plan: Plan, rows: list[Row]) -> None:
                 f"x{ri['ms_per_step'] / ri0['ms_per_step']:.2f} for {count / n0:g}x the bodies "
                 f"(pymunk x{rp['ms_per_step'] / rp0['ms_per_step']:.2f}); "
             )
+        b2_y = f" / {rb['mean_y']:.3f}" if rb else ""
         rows.append(
             (
                 f"rain {count} bodies: ms/step",
@@ -497,9 +593,12 @@ def rains(plan: Plan, rows: list[Row]) -> None:
                 fmt(ri["ms_per_step"]),
                 fmt(rp["ms_per_step"]),
                 ratio(ri["ms_per_step"], rp["ms_per_step"]),
-                f"{growth}mean height {ri['mean_y']:.3f} / {rp['mean_y']:.3f} m; finite: "
-                f"{ri['finite'] and rp['finite']}; repeats identical: "
-                f"{ri['repeats_identical']}; impulse2d build {ri['build_s']:.1f} s (untimed)",
+                *box2d_cells(ri["ms_per_step"], rb and rb["ms_per_step"]),
+                f"{growth}mean height {ri['mean_y']:.3f} / {rp['mean_y']:.3f}{b2_y} m "
+                f"({_who(rb)}); finite: "
+                f"{ri['finite'] and rp['finite'] and (rb is None or rb['finite'])}; repeats "
+                f"identical: {ri['repeats_identical']}; impulse2d build {ri['build_s']:.1f} s "
+                "(untimed)",
             )
         )
         previous = (count, ri, rp)

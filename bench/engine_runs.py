@@ -1,6 +1,6 @@
 """The impulse2d side of the engine benchmark (``bench/bench_engine.py``).
 
-Builds the shared scenes of ``bench/scenes.py`` (pool break, box pyramid, rain) as impulse2d
+Builds the shared scenes of ``bench/scenes.py`` (pool break, box pyramids, rain) as impulse2d
 worlds, times them the way ``bench/pymunk_peer.py`` times pymunk, and replays the pool break
 untimed for what the timing cannot measure: momentum against ``P0 exp(-drag t)``, energy
 gain (impulse2d, and pymunk for comparison), overlaps and penetration. ``bench_engine.main``
@@ -28,10 +28,30 @@ import impulse2d as p2
 
 try:  # imported as part of the repo (``bench.engine_runs``) ...
     from bench import pymunk_peer
-    from bench.scenes import PoolBreak, Pyramid, Rain, pool_break, pyramid, rain, validate
+    from bench.scenes import (
+        PoolBreak,
+        Pyramid,
+        Rain,
+        large_pyramid,
+        pool_break,
+        pyramid,
+        pyramid_settling,
+        rain,
+        validate,
+    )
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import pymunk_peer
-    from scenes import PoolBreak, Pyramid, Rain, pool_break, pyramid, rain, validate
+    from scenes import (
+        PoolBreak,
+        Pyramid,
+        Rain,
+        large_pyramid,
+        pool_break,
+        pyramid,
+        pyramid_settling,
+        rain,
+        validate,
+    )
 
 # -- impulse2d settings ----------------------------------------------------------------------
 POOL_SUBSTEPS = 2  # solver substeps per pool step (to be tuned)
@@ -419,6 +439,48 @@ def pyramid_impulse2d(
         "top_drift_m": float(drift[scene.top_index]),
         "max_drift_m": float(drift.max()),
         "finite": bool(np.all(np.isfinite(pos))),
+    }
+
+
+def large_pyramid_impulse2d(steps: int | None = None, budget_s: float | None = None) -> dict:
+    """Box2D v3's ``large_pyramid`` benchmark (:func:`scenes.large_pyramid`, 5,050 boxes) in
+    impulse2d: step it ``steps`` times (default the scene's 500), timing from the first
+    step, and measure how far it has settled (:func:`scenes.pyramid_settling`).
+
+    Mirrors :func:`box2d_peer.large_pyramid_box2d`. A warm-up step runs first on a small
+    pyramid, so compiling stays out of the timing; the big world's own first-step costs
+    (its scratch growing) stay in, as they do in Box2D's. With ``budget_s`` the timing
+    stops once that much time has passed and the rest of the steps run untimed, so the
+    settling is always measured after ``steps`` steps.
+
+    Returns ``ms_per_step`` (over the timed steps), ``timed_steps``, ``steps``,
+    ``median_step_ms`` (of the timed steps), ``build_s`` (building the world, untimed) and
+    the measures of :func:`scenes.pyramid_settling`.
+    """
+    scene = large_pyramid()
+    validate(scene)
+    steps = scene.steps if steps is None else steps
+    warm, _ = _pyramid_world(pyramid(4))
+    warm.step(scene.dt)
+    t0 = time.perf_counter()
+    world, boxes = _pyramid_world(scene)
+    build_s = time.perf_counter() - t0
+
+    step, dt, clock = world.step, scene.dt, time.perf_counter
+    stamps = [clock()]
+    for _ in _progress(range(steps), steps, "impulse2d large_pyramid"):
+        step(dt)
+        if budget_s is None or stamps[-1] - stamps[0] <= budget_s:
+            stamps.append(clock())
+    timed = len(stamps) - 1
+    step_ms = 1e3 * np.diff(stamps)
+    return {
+        "ms_per_step": float(step_ms.mean()),
+        "median_step_ms": float(np.median(step_ms)),
+        "timed_steps": timed,
+        "steps": steps,
+        "build_s": build_s,
+        **pyramid_settling(scene, _positions(world, boxes)),
     }
 
 

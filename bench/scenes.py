@@ -2,14 +2,16 @@
 
 Every scene is plain data in SI units (metres, kilograms, seconds); this module
 imports no physics engine, so each engine's adapter builds its own world from the
-same numbers. Three scenes are defined:
+same numbers. These scenes are defined:
 
 * :func:`pool_break` - the 16-ball break on a 2.54 x 1.27 m table (contact-heavy
   burst, then many light contacts; used for the many-worlds throughput figure).
   :func:`pool_cue_offsets` gives every world of a batch its own shot (the cue ball
   moved sideways by up to 1 cm), as in reinforcement learning.
 * :func:`pyramid` - the Box2D-style box pyramid on a static ground (stacking
-  stability and per-step cost of a large contact graph).
+  stability and per-step cost of a large contact graph). :func:`large_pyramid` is Box2D
+  v3's own ``large_pyramid`` benchmark (100 rows, 5,050 boxes), measured by how far it
+  settles (:func:`pyramid_settling`).
 * :func:`rain` - ``count`` circles and boxes dropped at random onto the ground over a
   strip whose width grows with ``count`` (per-step cost against scene size).
 
@@ -211,6 +213,58 @@ def pyramid(base: int) -> Pyramid:
     )
 
 
+LATERAL_CREEP_M = 0.25  # m: a box of a settled pyramid that moved further sideways "crept"
+
+
+def large_pyramid() -> Pyramid:
+    """Box2D v3's ``large_pyramid`` benchmark scene (its benchmark program's ``LargePyramid``).
+
+    100 rows of 1 m boxes (1 kg: density 1), 5,050 in all, touching their neighbours
+    side by side (no gap, unlike :func:`pyramid`) and stacked half a box over, row ``i``
+    at ``y = i + 0.5`` with its boxes at ``x = (i + 1) / 2 + (j - i) - 50``; the ground a
+    200 x 2 m box centred at (0, -1), top face at y = 0; friction 0.6 (Box2D's default),
+    restitution 0, gravity (0, -10), dt = 1/60, and Box2D times 500 steps. ``steps`` and
+    ``drift_steps`` are both 500: every step is timed and the settling is measured after
+    the last (:func:`pyramid_settling`).
+    """
+    base, h = 100, 0.5
+    positions = [
+        ((i + 1) * h + 2 * (j - i) * h - h * base, (2 * i + 1) * h)
+        for i in range(base)
+        for j in range(i, base)
+    ]
+    return Pyramid(
+        base=base,
+        box_size=2 * h,
+        box_mass=1.0,
+        friction=0.6,
+        restitution=0.0,
+        ground=StaticBox((0.0, -1.0), (100.0, 1.0)),
+        positions=_frozen(positions),
+        gravity=(0.0, -10.0),
+        dt=1 / 60,
+        steps=500,
+        drift_steps=500,
+    )
+
+
+def pyramid_settling(scene: Pyramid, positions: np.ndarray) -> dict:
+    """How far a pyramid's boxes have moved from ``scene.positions`` to ``positions`` (n, 2).
+
+    ``apex_sink_m``: how far the top box has come down; ``max_dx_m``: the largest sideways
+    movement of any box; ``crept``: how many boxes moved more than ``LATERAL_CREEP_M``
+    sideways; ``finite``. Every engine's result is measured by this one function.
+    """
+    dx = np.abs(positions[:, 0] - scene.positions[:, 0])
+    top = scene.top_index
+    return {
+        "apex_sink_m": float(scene.positions[top, 1] - positions[top, 1]),
+        "max_dx_m": float(dx.max()),
+        "crept": int(np.count_nonzero(dx > LATERAL_CREEP_M)),
+        "finite": bool(np.all(np.isfinite(positions))),
+    }
+
+
 @dataclass(frozen=True, eq=False)
 class Rain:
     """Rain: ``count`` circles and boxes released at random over a wide static ground.
@@ -325,11 +379,13 @@ def validate(scene: PoolBreak | Pyramid | Rain) -> None:
         if np.any(p[:, 1] - h < -1e-12):
             raise ValueError("a box reaches below the ground's top face (y = 0)")
         # Axis-aligned unit boxes overlap iff they overlap on both axes (touching is fine).
-        d = np.abs(p[:, None, :] - p[None, :, :])
-        hit = np.all(d < 2 * h - 1e-12, axis=-1)
-        np.fill_diagonal(hit, False)
-        if hit.any():
-            raise ValueError("overlapping boxes in the pyramid")
+        # In blocks of rows: the large pyramid's full 5,050 x 5,050 table would take 400 MB.
+        for start in range(0, len(p), 512):
+            d = np.abs(p[start : start + 512, None, :] - p[None, :, :])
+            hit = np.all(d < 2 * h - 1e-12, axis=-1)
+            hit[np.arange(len(hit)), start + np.arange(len(hit))] = False  # a box and itself
+            if hit.any():
+                raise ValueError("overlapping boxes in the pyramid")
     elif isinstance(scene, Rain):
         hw, hh = scene.box_size[0] / 2, scene.box_size[1] / 2
         c, s = np.abs(np.cos(scene.angles)), np.abs(np.sin(scene.angles))
