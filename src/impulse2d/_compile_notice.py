@@ -3,14 +3,14 @@
 numba compiles a kernel the first time it is called, unless its cache has it; the cache
 is written next to the sources (or under ``NUMBA_CACHE_DIR``) and kept until the kernel
 modules change. So the first step after installing or updating impulse2d waits while
-the step kernels compile, about 45 s on two cores, and every later run loads them in
+the step kernels compile, about 35 s on two cores, and every later run loads them in
 well under a second (``python -m impulse2d.compile`` fills the cache ahead, for images,
 CI and cluster nodes). So that nobody takes that wait for a hang, the first run says
 what it is doing, on stderr::
 
     impulse2d: compiling the physics kernels (first run after installing or updating;
-    about 45 s on 2 cores, cached afterwards)...
-    impulse2d: compiled in 43 s; later runs load them from the cache
+    about 35 s on 2 cores, cached afterwards)...
+    impulse2d: compiled in 33 s; later runs load them from the cache
 
 (each is one line). A cached run prints nothing.
 
@@ -49,12 +49,12 @@ QUIET = "IMPULSE2D_QUIET"
 _RUN = "IMPULSE2D_COMPILE_RUN"  # the run token child processes inherit
 
 # Seconds each step kernel takes to compile with an empty cache, measured with
-# bench/bench_startup.py on this project's machine (2 shared cores): 40-45 s of CPU for
-# the single-world one, about 50 s for the batched one compiled first. A step kernel
-# left to compile over compiled stages: 9-12 s.
+# bench/bench_startup.py on this project's machine (2 shared cores): 32-36 s of CPU for
+# the single-world one, about 40 s for the batched one compiled first. A step kernel
+# left to compile over compiled stages: 8-10 s.
 TYPICAL_SECONDS = {
-    ("impulse2d.pipeline", "advance"): 45,
-    ("impulse2d.pipeline", "advance_parallel"): 50,
+    ("impulse2d.pipeline", "advance"): 35,
+    ("impulse2d.pipeline", "advance_parallel"): 40,
 }
 ANOTHER_SECONDS = 10
 # The stage under both step kernels: when it is compiled (or cached), a step kernel left
