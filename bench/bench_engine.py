@@ -62,7 +62,7 @@ import numba
 import numpy as np
 
 import impulse2d as p2
-from impulse2d.runner import available_threads
+from impulse2d.core.runner import available_threads
 
 # _pool_world and _pyramid_world are re-exported: bench_render.py and solver_choice.py import
 # these world builders from here.
@@ -194,7 +194,7 @@ def _print_setup(plan: Plan) -> None:
     print(f"Box2D v3: {box2d_peer.version()}; {source_version()}")
     print(
         f"threads: impulse2d steps a batch on {plan.threads} (World.threads, its default: "
-        f"every core numba sees; impulse2d.runner.available_threads() = "
+        f"every core numba sees; impulse2d.core.runner.available_threads() = "
         f"{available_threads()}), a single world on one; pymunk: one process, one thread"
     )
     print(scene.describe().replace(f"{scene.steps} steps", f"{pool_steps} steps"))

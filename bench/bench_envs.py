@@ -61,7 +61,7 @@ import numpy as np
 import pymunk
 
 import impulse2d as p2
-from impulse2d.runner import available_threads
+from impulse2d.core.runner import available_threads
 
 try:  # imported as part of the repo (``bench.bench_envs``) ...
     from bench import env_runs, report
@@ -176,7 +176,7 @@ def _load() -> str:
 def _threads_line() -> str:
     return (
         f"threads: impulse2d vector envs step their batch on {p2.World().threads} "
-        f"(World.threads, its default: every core numba sees; impulse2d.runner."
+        f"(World.threads, its default: every core numba sees; impulse2d.core.runner."
         f"available_threads() = {available_threads()}, numba threading layer "
         f"{numba.config.THREADING_LAYER}); a single env is one world on one thread"
     )

@@ -7,7 +7,7 @@ gain (impulse2d, and pymunk for comparison), overlaps and penetration. ``bench_e
 runs these and prints the table; ``bench/profile_step.py`` (``--profile``) reuses the world
 builders.
 
-Every ``World.step`` is one compiled call (``impulse2d.pipeline``). The timed loops call it
+Every ``World.step`` is one compiled call (``impulse2d.core.pipeline``). The timed loops call it
 once per step from Python, as an RL loop or a game does, except
 :func:`pool_break_one_call`, which passes ``steps=`` and runs the whole break in one call.
 A batch is stepped on ``World.threads`` threads (default: every core numba sees).

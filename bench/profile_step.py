@@ -58,17 +58,17 @@ import numba
 import numpy as np
 
 import impulse2d as p2
-from impulse2d import pipeline, settings
-from impulse2d.broadphase import find_pairs
-from impulse2d.contacts import carry_impulses, count_dormant, prepare
-from impulse2d.integrate import spring_stability, step_terms
-from impulse2d.narrowphase import find_points
-from impulse2d.projection import project_out_of_planes
-from impulse2d.refusal import leaves_envelope
-from impulse2d.runner import available_threads
-from impulse2d.sleep import wake_touched
-from impulse2d.state import AWAKE, DYNAMIC, ENABLED, PLANE, WorldState
-from impulse2d.workspace import Workspace, views
+from impulse2d.core import context, pipeline
+from impulse2d.core.broadphase import find_pairs
+from impulse2d.core.contacts import carry_impulses, count_dormant, prepare
+from impulse2d.core.integrate import spring_stability, step_terms
+from impulse2d.core.narrowphase import find_points
+from impulse2d.core.projection import project_out_of_planes
+from impulse2d.core.refusal import leaves_envelope
+from impulse2d.core.runner import available_threads
+from impulse2d.core.sleep import wake_touched
+from impulse2d.core.state import AWAKE, DYNAMIC, ENABLED, PLANE, WorldState
+from impulse2d.core.workspace import Workspace, views
 from impulse2d.world import Snapshot
 
 try:  # imported as part of the repo (``bench.profile_step``) ...
@@ -168,7 +168,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
         return NEEDS_ROOM
     if ends.shape[0]:
         measure = np.zeros(1)
-        spring_stability(body, body_i, spring, ends, w, terms, ctx[settings.H], measure)
+        spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H], measure)
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     if stages == 5:

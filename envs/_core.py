@@ -157,7 +157,7 @@ class ShotGame:
 
     def drag_action(self, world: int, start: Any, end: Any) -> np.ndarray:
         """The action a person means by dragging the mouse from ``start`` to ``end`` (world
-        coordinates, m) in world ``world``: how ``python -m impulse2d.play`` turns a drag
+        coordinates, m) in world ``world``: how ``python -m impulse2d.apps.play`` turns a drag
         into a move. Returns a float64 action in [-1, 1]."""
         raise NotImplementedError
 

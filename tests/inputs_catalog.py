@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 import impulse2d as p2
-from impulse2d.state import HEALTH
+from impulse2d.core.state import HEALTH
 
 DT = 1.0 / 60.0
 NAN, INF = math.nan, math.inf

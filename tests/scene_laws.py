@@ -14,7 +14,7 @@ import numpy as np
 
 import impulse2d as p2
 import scenes_random as sr
-from impulse2d.state import ANGLE, HEALTH, KEPT_TORQUE, MASS, MOMENT, OMEGA, VX, VY, X, Y
+from impulse2d.core.state import ANGLE, HEALTH, KEPT_TORQUE, MASS, MOMENT, OMEGA, VX, VY, X, Y
 
 ENERGY_TOLERANCE = 0.01  # relative kinetic energy gain allowed (solver error)
 MOMENTUM_TOLERANCE = 1e-9  # relative drift of linear and angular momentum

@@ -22,8 +22,8 @@ import numpy as np
 from hypothesis import strategies as st
 
 import impulse2d as p2
+from impulse2d.core.state import CONTACT_COUNT
 from impulse2d.envelope import ACCELERATION
-from impulse2d.state import CONTACT_COUNT
 
 GRAVITY = (0.0, -9.81)
 # The wide scenes: a length scale from 3 mm to 20 m (sizes within 10x of it), masses

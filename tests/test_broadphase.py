@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import broadphase, integrate, workspace
-from impulse2d.state import DYNAMIC, ENABLED, PLANE, SAP_ORDER
-from impulse2d.workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
+from impulse2d.core import broadphase, integrate, workspace
+from impulse2d.core.state import DYNAMIC, ENABLED, PLANE, SAP_ORDER
+from impulse2d.core.workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
 
 DT = 1 / 60
 

@@ -1,5 +1,5 @@
 """The kernels can be compiled ahead (``python -m impulse2d.compile``), and cached in the
-user's cache folder when the install folder is read-only (impulse2d/_jit.py): after the
+user's cache folder when the install folder is read-only (impulse2d/core/_jit.py): after the
 command, a new process's first step and first Pool2D-v0 shot compile nothing."""
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numba
 import pytest
 
 import impulse2d
-from impulse2d import _jit
+from impulse2d.core import _jit
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -36,7 +36,7 @@ class Count(event.Listener):
 event.register("numba:compile", Count())
 import gymnasium as gym
 import impulse2d as p2
-from impulse2d import _jit
+from impulse2d.core import _jit
 world = p2.World()
 world.add(p2.Plane())
 world.add(p2.Circle(position=(0.0, 1.0)))
@@ -53,7 +53,7 @@ def _read_only_install(tmp_path: Path) -> Path:
     folders cannot be written; returns the folder to put on the path."""
     root = tmp_path / "site"
     package = root / "impulse2d"
-    shutil.copytree(_jit._PACKAGE, package, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(_jit._PACKAGE.parent, package, ignore=shutil.ignore_patterns("__pycache__"))
     envs = Path(impulse2d.__file__).parent / "envs"
     if not envs.is_dir():  # an editable install maps the top-level envs/ folder
         envs = ROOT / "envs"

@@ -38,10 +38,10 @@ def test_compiled_and_plain_python_agree_bitwise(tmp_path):
 def _package_copy(tmp_path: Path) -> Path:
     import shutil
 
-    from impulse2d import _jit
+    from impulse2d.core import _jit
 
     copy = tmp_path / "package"
-    shutil.copytree(_jit._PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__", "demo"))
+    shutil.copytree(_jit._PACKAGE.parent, copy, ignore=shutil.ignore_patterns("__pycache__"))
     return copy
 
 
@@ -49,22 +49,23 @@ def test_kernel_digest_follows_kernel_sources_only(tmp_path):
     """numba checks a cached kernel against its own file only, so the package stamps its
     cache: an edit to a module kernels are compiled from changes the stamp, an edit to a
     facade does not (so it costs no recompile)."""
-    from impulse2d._jit import kernel_sources_digest
+    from impulse2d.core._jit import kernel_sources_digest
 
     package = _package_copy(tmp_path)
-    before = kernel_sources_digest(package)
-    with open(package / "sandbox.py", "a") as facade:
-        facade.write("# an edit outside the kernels\n")
-    assert kernel_sources_digest(package) == before
-    for module in ("solver.py", "state.py", "settings.py"):
-        edited = _package_copy(tmp_path / module)
+    before = kernel_sources_digest(package / "core")
+    for facade in ("world.py", "settings.py", "apps/sandbox.py"):
+        with open(package / facade, "a") as source:
+            source.write("# an edit outside the kernels\n")
+    assert kernel_sources_digest(package / "core") == before
+    for module in ("core/solver.py", "core/state.py", "core/context.py", "envelope.py"):
+        edited = _package_copy(tmp_path / module.replace("/", "_"))
         with open(edited / module, "a") as source:
             source.write("# an edit the kernels are compiled from\n")
-        assert kernel_sources_digest(edited) != before, module
+        assert kernel_sources_digest(edited / "core") != before, module
 
 
 def test_stale_cache_is_emptied_and_current_cache_kept(tmp_path, monkeypatch):
-    from impulse2d import _jit
+    from impulse2d.core import _jit
 
     cache = tmp_path / "cache"
     cache.mkdir()

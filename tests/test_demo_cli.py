@@ -1,4 +1,4 @@
-"""The demo command line, ``python -m impulse2d.demo``: listing, argument errors, output."""
+"""The demo command line, ``python -m impulse2d.apps.demo``: listing, argument errors, output."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from impulse2d import demo
-from impulse2d.demo.__main__ import frame_interval, list_scenes, main
+from impulse2d.apps import demo
+from impulse2d.apps.demo.__main__ import frame_interval, list_scenes, main
 
 
 def _fails(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
@@ -21,10 +21,10 @@ def _fails(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
 
 
 def test_list_as_a_module():
-    """``python -m impulse2d.demo --list`` prints every scene with its description, the
+    """``python -m impulse2d.apps.demo --list`` prints every scene with its description, the
     descriptions aligned in one column, and exits 0."""
     result = subprocess.run(
-        [sys.executable, "-m", "impulse2d.demo", "--list"],
+        [sys.executable, "-m", "impulse2d.apps.demo", "--list"],
         capture_output=True,
         text=True,
         timeout=60,
@@ -93,7 +93,7 @@ def test_unknown_debug_overlay_lists_the_valid_ones(capsys):
 def test_bad_arguments_as_a_module():
     """Run as a module, an argument error exits 2 with the message on stderr."""
     result = subprocess.run(
-        [sys.executable, "-m", "impulse2d.demo", "pyramid", "--seconds", "-1"],
+        [sys.executable, "-m", "impulse2d.apps.demo", "pyramid", "--seconds", "-1"],
         capture_output=True,
         text=True,
         timeout=60,

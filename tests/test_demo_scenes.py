@@ -1,4 +1,4 @@
-"""The demo scenes (``impulse2d.demo``): every scene runs, and does what it says it shows."""
+"""The demo scenes (``impulse2d.apps.demo``): every scene runs, and does what it says it shows."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import demo
-from impulse2d.demo import scenes
+from impulse2d.apps import demo
+from impulse2d.apps.demo import scenes
 
 G = 9.81
 NAMES = list(demo.SCENES)

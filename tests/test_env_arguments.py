@@ -19,9 +19,9 @@ import pytest
 from gymnasium.vector import AutoresetMode
 
 import impulse2d  # noqa: F401  (registers the ids)
+from impulse2d.core.runner import available_threads
 from impulse2d.envs import pool, slingshot
 from impulse2d.envs._core import MAX_ENVS, MAX_SHOT_SECONDS
-from impulse2d.runner import available_threads
 from inputs_catalog import BAD, EXTREME, INF, NAN, Nonsense
 
 REALS = [

@@ -23,7 +23,11 @@ import impulse2d as p2
 from impulse2d import _compile_notice
 from impulse2d._compile_notice import QUIET, TYPICAL_SECONDS, CompileNotice
 
-STEP, STAGE, OTHER = ("impulse2d.pipeline", "advance"), ("impulse2d.pipeline", "stage"), ("x", "f")
+STEP, STAGE, OTHER = (
+    ("impulse2d.core.pipeline", "advance"),
+    ("impulse2d.core.pipeline", "stage"),
+    ("x", "f"),
+)
 
 
 def _dispatcher(key: tuple[str, str]) -> Any:
@@ -135,12 +139,12 @@ def test_the_processes_of_one_run_say_it_once(tmp_path):
     first_compiles.start(STEP)  # a process that spoke speaks again (another kernel, later)
     assert len(first_out.getvalue().splitlines()) == 3
     other = CompileNotice(
-        kernels={("impulse2d.pipeline", "advance_parallel"): 75},
+        kernels={("impulse2d.core.pipeline", "advance_parallel"): 75},
         stream=lambda: second_out,
         ready=lambda: False,
         claims=tmp_path,
     )
-    _Compiles(other, [0.0]).start(("impulse2d.pipeline", "advance_parallel"))
+    _Compiles(other, [0.0]).start(("impulse2d.core.pipeline", "advance_parallel"))
     assert "about 75 s" in second_out.getvalue()  # another kernel: its own line
 
 

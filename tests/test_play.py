@@ -1,4 +1,4 @@
-"""``python -m impulse2d.play``, driven headless (SDL's dummy video driver) with real
+"""``python -m impulse2d.apps.play``, driven headless (SDL's dummy video driver) with real
 pygame events: the drag is the move, the shot plays in the window, P restarts, Esc quits."""
 
 import importlib.util
@@ -11,7 +11,7 @@ import pytest
 os.environ["SDL_VIDEODRIVER"] = "dummy"
 pygame = pytest.importorskip("pygame")
 
-from impulse2d.play import HUD_HEIGHT, Player, load_game, main  # noqa: E402
+from impulse2d.apps.play import HUD_HEIGHT, Player, load_game, main  # noqa: E402
 
 SIZE = (320, 180)
 

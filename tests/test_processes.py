@@ -15,7 +15,7 @@ import pytest
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
 import impulse2d as p2
-from impulse2d.runner import available_threads
+from impulse2d.core.runner import available_threads
 
 DT = 1 / 120
 

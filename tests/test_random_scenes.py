@@ -22,8 +22,8 @@ from hypothesis import strategies as st
 import impulse2d as p2
 import scene_laws as laws
 import scenes_random as sr
-from impulse2d.runner import available_threads
-from impulse2d.state import ANGLE, OMEGA, VX, VY, X, Y
+from impulse2d.core.runner import available_threads
+from impulse2d.core.state import ANGLE, OMEGA, VX, VY, X, Y
 
 STEPS = 100
 BASE = settings(

@@ -20,8 +20,9 @@ from hypothesis import HealthCheck, given, note, settings
 
 import impulse2d as p2
 import scenes_random as sr
-from impulse2d import envelope, refusal
-from impulse2d.state import CONTACT_COUNT, MASS, OMEGA, SLEEP_TIME, VX, VY, X, Y
+from impulse2d import envelope
+from impulse2d.core import refusal
+from impulse2d.core.state import CONTACT_COUNT, MASS, OMEGA, SLEEP_TIME, VX, VY, X, Y
 
 DT = 1 / 60
 

@@ -10,7 +10,7 @@ import pytest
 os.environ["SDL_VIDEODRIVER"] = "dummy"
 pygame = pytest.importorskip("pygame")
 
-from impulse2d.sandbox import CUE_GAIN, Sandbox  # noqa: E402
+from impulse2d.apps.sandbox import CUE_GAIN, Sandbox  # noqa: E402
 
 
 @pytest.fixture
@@ -121,7 +121,7 @@ def test_without_a_display_it_says_so():
         if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")
     }
     done = subprocess.run(
-        [sys.executable, "-m", "impulse2d.sandbox"],
+        [sys.executable, "-m", "impulse2d.apps.sandbox"],
         env=env,
         capture_output=True,
         text=True,

@@ -13,9 +13,9 @@ import pytest
 
 import impulse2d as p2
 from conftest import names, upward_crossings
-from impulse2d import integrate, workspace
-from impulse2d.state import ANGLE, AWAKE, BOX, COS, SIN
-from impulse2d.workspace import (
+from impulse2d.core import integrate, workspace
+from impulse2d.core.state import ANGLE, AWAKE, BOX, COS, SIN
+from impulse2d.core.workspace import (
     ACCEL_W,
     ACCEL_X,
     ACCEL_Y,

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import broadphase, integrate, narrowphase, workspace
-from impulse2d.narrowphase import (
+from impulse2d.core import broadphase, integrate, narrowphase, workspace
+from impulse2d.core.narrowphase import (
     BOX_BOX,
     BOX_PLANE,
     CIRCLE_BOX,
@@ -24,7 +24,7 @@ from impulse2d.narrowphase import (
     CIRCLE_PLANE,
     PAIRS,
 )
-from impulse2d.state import BOX, CIRCLE, PLANE
+from impulse2d.core.state import BOX, CIRCLE, PLANE
 
 DT = 1 / 60
 HALF_DIAGONAL = math.sqrt(0.5)  # of a unit square

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import projection
-from impulse2d.state import OMEGA, VX
+from impulse2d.core import projection
+from impulse2d.core.state import OMEGA, VX
 from test_stage_solver import prepared
 
 ZERO_G = (0.0, 0.0)

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import impulse2d as p2
-from impulse2d import broadphase, contacts, integrate, narrowphase, solver, workspace
-from impulse2d.workspace import (
+from impulse2d.core import broadphase, contacts, integrate, narrowphase, solver, workspace
+from impulse2d.core.workspace import (
     NORMAL_J,
     NX,
     NY,

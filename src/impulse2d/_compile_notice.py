@@ -53,13 +53,13 @@ _RUN = "IMPULSE2D_COMPILE_RUN"  # the run token child processes inherit
 # the single-world one, about 40 s for the batched one compiled first. A step kernel
 # left to compile over compiled stages: 8-10 s.
 TYPICAL_SECONDS = {
-    ("impulse2d.pipeline", "advance"): 35,
-    ("impulse2d.pipeline", "advance_parallel"): 40,
+    ("impulse2d.core.pipeline", "advance"): 35,
+    ("impulse2d.core.pipeline", "advance_parallel"): 40,
 }
 ANOTHER_SECONDS = 10
 # The stage under both step kernels: when it is compiled (or cached), a step kernel left
 # to compile takes ANOTHER_SECONDS, not the whole compile.
-_CORE = ("impulse2d.pipeline", "advance_world")
+_CORE = ("impulse2d.core.pipeline", "advance_world")
 
 
 def _name(dispatcher: Any) -> tuple[str, str]:
@@ -71,7 +71,7 @@ def core_compiled() -> bool:
     """Whether the stages of the step are compiled here or in numba's cache for this
     machine and these sources (then a step kernel takes about ANOTHER_SECONDS)."""
     try:
-        from . import pipeline
+        from .core import pipeline
 
         core = pipeline.advance_world
         if core.overloads:

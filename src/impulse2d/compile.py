@@ -11,7 +11,7 @@ a user does first (a world and its first step, a batch on threads, a shot of eac
 single and batched), so that numba compiles each kernel for the very argument types
 those runs use, and writes it where they will look for it: next to the sources, under
 ``NUMBA_CACHE_DIR`` when set, or in the user's cache folder when the install folder is
-read-only (``impulse2d._jit``). Run it with the same Python, numba and CPU as the runs
+read-only (``impulse2d.core._jit``). Run it with the same Python, numba and CPU as the runs
 that follow, and with the same ``NUMBA_CACHE_DIR``. A cache that already holds the
 kernels makes it a few-second no-op.
 
@@ -107,7 +107,7 @@ def compile_kernels(engine_only: bool = False, say: Callable[[str], None] = prin
 
     ``say`` gets one line per group and one at the end."""
     import impulse2d  # noqa: F401  (before the clock: the import is not compiling)
-    from impulse2d._jit import JIT_DISABLED
+    from impulse2d.core._jit import JIT_DISABLED
 
     if JIT_DISABLED:
         say("NUMBA_DISABLE_JIT is set: nothing to compile")

@@ -14,10 +14,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import _checks, envelope
-from ._jit import kernel
-from .events import disable, enable, forget_contacts
-from .sleep import wake_island, wake_neighbours
-from .state import (
+from .core import edits
+from .core.state import (
     ANGLE,
     ANGULAR_DRAG,
     AWAKE,
@@ -55,36 +53,11 @@ if TYPE_CHECKING:
 VELOCITY_COLUMNS = (VX, VY, OMEGA)
 
 
-@kernel
-def _wake(body, body_i, layout, contact_i, world_i, worlds, slot, neighbours) -> None:
-    shapes = layout[: body.shape[1]]
-    for w in worlds:
-        wake_island(body, body_i, shapes, w, slot)
-        if neighbours:
-            wake_neighbours(body, body_i, shapes, contact_i, world_i, w, slot)
-
-
-@kernel
-def _switch(body, body_i, layout, contact, contact_i, world_i, worlds, on, slot) -> None:
-    shapes = layout[: body.shape[1]]
-    for k in range(worlds.size):
-        if on[k]:
-            enable(body, body_i, shapes, contact, contact_i, world_i, worlds[k], slot)
-        else:
-            disable(body, body_i, shapes, contact, contact_i, world_i, worlds[k], slot)
-
-
-@kernel
-def _forget(contact, contact_i, world_i, slot) -> None:
-    for w in range(world_i.shape[0]):
-        forget_contacts(contact, contact_i, world_i, w, slot)
-
-
 def wake(world: World, worlds: np.ndarray, slot: int, neighbours: bool = False) -> None:
     """Wake a body's island in ``worlds`` (and, with ``neighbours``, what touched it)."""
     if worlds.size:
         s = world.state
-        _wake(
+        edits.wake_bodies(
             s.body,
             s.body_i,
             world.layout.rows,
@@ -99,7 +72,7 @@ def wake(world: World, worlds: np.ndarray, slot: int, neighbours: bool = False) 
 def forget(world: World, slot: int) -> None:
     """Drop the cached contacts of a slot in every world (it is new, or leaving)."""
     s = world.state
-    _forget(s.contact, s.contact_i, s.world_i, slot)
+    edits.forget_body_contacts(s.contact, s.contact_i, s.world_i, slot)
 
 
 def write_body(
@@ -161,7 +134,7 @@ def set_enabled(world: World, slot: int, flags: np.ndarray) -> None:
     s = world.state
     changed = np.flatnonzero((s.body_i[:, slot, ENABLED] == 1) != flags)
     if changed.size:
-        _switch(
+        edits.switch_bodies(
             s.body,
             s.body_i,
             world.layout.rows,

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .state import (
+from .core.state import (
     ANCHOR_AX,
     ANCHOR_AY,
     ANCHOR_BX,

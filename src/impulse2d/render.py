@@ -28,7 +28,7 @@ import numpy as np
 
 from . import _checks
 from . import _raster as raster
-from .state import (
+from .core.state import (
     ANGLE,
     AWAKE,
     BOUND,

@@ -15,8 +15,7 @@ from typing import Any
 import numpy as np
 
 from . import _checks
-from .shapes import COORDINATE, SIZE, Part, per_world
-from .state import (
+from .core.state import (
     BOX,
     CIRCLE,
     SENSE_DISABLES,
@@ -28,6 +27,7 @@ from .state import (
     SENSOR_X,
     SENSOR_Y,
 )
+from .shapes import COORDINATE, SIZE, Part, per_world
 
 # name -> (columns of state.sensor, shape of one value, check(name, array) against the
 # envelope or None, stored = value * scale)

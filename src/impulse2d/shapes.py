@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import _checks, edit, envelope
-from .state import (
+from .core.state import (
     ANGLE,
     ANGULAR_DRAG,
     AWAKE,

@@ -13,10 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import edit
-from .sensors import Sensor
-from .shapes import Body, Plane, _Slot
-from .springs import Spring
-from .state import (
+from .core.state import (
     ANGLE,
     AWAKE,
     BODY_I,
@@ -38,6 +35,9 @@ from .state import (
     body_defaults,
     grown,
 )
+from .sensors import Sensor
+from .shapes import Body, Plane, _Slot
+from .springs import Spring
 
 if TYPE_CHECKING:
     from .world import World

@@ -19,11 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks, edit, envelope, pipeline, readouts, refusal, structure
-from .readouts import ContactPoints, Energy
-from .runner import Runner, available_threads
-from .settings import Settings
-from .state import (
+from . import _checks, edit, envelope, readouts, structure
+from .core import pipeline, refusal
+from .core.runner import Runner, available_threads
+from .core.state import (
     BODY_F,
     BODY_I,
     FIRST_CONTACT,
@@ -32,6 +31,8 @@ from .state import (
     Layout,
     WorldState,
 )
+from .readouts import ContactPoints, Energy
+from .settings import Settings
 
 # Readable names for ``World.array``: name -> (array, columns).
 ARRAYS: dict[str, tuple[str, Any]] = {

@@ -16,7 +16,7 @@ neighbour slides away; islands prevent that.
 
 from __future__ import annotations
 
-from . import settings
+from . import context
 from ._jit import kernel
 from .integrate import spring_acts
 from .state import (
@@ -108,12 +108,12 @@ def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blo
     the speed itself). Islands join bodies by every narrowphase point, touching or about
     to, not only those that pushed: contacts between bodies at rest push nothing, and
     islands cut along them would sleep in pieces, each woken again by its neighbour."""
-    dt, limit = ctx[settings.DT], ctx[settings.TIME_TO_SLEEP]
+    dt, limit = ctx[context.DT], ctx[context.TIME_TO_SLEEP]
     count = parents.size
     anyone = False
     for i in range(count):
         if terms[i, MOVABLE] == 1.0:
-            slow = terms[i, SPEED] < ctx[settings.SLEEP_SPEED]
+            slow = terms[i, SPEED] < ctx[context.SLEEP_SPEED]
             body[w, i, SLEEP_TIME] = body[w, i, SLEEP_TIME] + dt if slow else 0.0
             anyone |= body[w, i, SLEEP_TIME] >= limit
     if not anyone:

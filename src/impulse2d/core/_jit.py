@@ -46,9 +46,7 @@ from numba.core import errors, types
 F = TypeVar("F", bound=Callable[..., Any])
 
 JIT_DISABLED = bool(numba.config.DISABLE_JIT)
-_PACKAGE = Path(__file__).parent
-# Modules whose constants kernels are compiled with, besides those that define kernels.
-_CONSTANTS = ("state.py", "settings.py", "envelope.py")
+_PACKAGE = Path(__file__).parent  # impulse2d/core: every kernel is defined in it
 
 
 def _writable(folder: Path) -> bool:
@@ -88,14 +86,12 @@ CACHE_DIR = choose_cache_dir()
 
 
 def kernel_sources_digest(package: Path) -> str:
-    """SHA-256 of the modules under ``package`` that kernels are compiled from: those
-    that define kernels, and ``state.py``, ``settings.py`` and ``envelope.py`` whose
-    constants they use."""
+    """SHA-256 of the modules kernels are compiled from: every module of ``package`` (the
+    core: the kernels, the state's and the step context's columns) and the envelope's
+    limits (``envelope.py`` beside it)."""
     digest = hashlib.sha256()
-    for path in sorted(package.glob("*.py")):
-        source = path.read_bytes()
-        if b"from ._jit import" in source or path.name in _CONSTANTS:
-            digest.update(path.name.encode() + source)
+    for path in [*sorted(package.glob("*.py")), package.parent / "envelope.py"]:
+        digest.update(path.name.encode() + path.read_bytes())
     return digest.hexdigest()
 
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from . import settings
+from . import context
 from ._jit import JIT_DISABLED, clear_stale_cache, kernel, parallel_kernel
 from .broadphase import find_pairs
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
@@ -103,7 +103,7 @@ def rest_step(body, contact, world_i, time, w, ctx) -> None:
     body[w, :, FX] = 0.0
     body[w, :, FY] = 0.0
     body[w, :, TORQUE] = 0.0
-    time[w] += ctx[settings.DT]
+    time[w] += ctx[context.DT]
     world_i[w, STEPS] += 1
 
 
@@ -136,8 +136,8 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
 def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once."""
-    h = ctx[settings.H]
-    count = int(ctx[settings.SUBSTEPS])
+    h = ctx[context.H]
+    count = int(ctx[context.SUBSTEPS])
     for substep in range(count):
         integrate_velocities(body, w, terms)
         if ends.shape[0]:
@@ -164,13 +164,13 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
         if shapes[i, 1] == KINEMATIC and body_i[w, i, ENABLED] == 1:  # awake while it moves
             moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
             body_i[w, i, AWAKE] = 1 if moving else 0
-    if ctx[settings.SLEEPING] == 1.0:
+    if ctx[context.SLEEPING] == 1.0:
         islands = scratch.parents, scratch.members
         update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, *islands)
     if damaged:
         break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
     sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
-    time[w] += ctx[settings.DT]
+    time[w] += ctx[context.DT]
     world_i[w, STEPS] += 1
 
 
@@ -196,7 +196,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         return NEEDS_ROOM
     if ends.shape[0]:
         measure = np.zeros(2)
-        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[settings.H], measure)
+        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H], measure)
         if worst >= 0:
             plan_row[BAD_SLOT] = worst
             return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING

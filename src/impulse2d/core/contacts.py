@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 
-from . import settings
+from . import context
 from ._jit import inline, kernel
 from .state import (
     APPROACH,
@@ -117,7 +117,7 @@ def point_key(a, b, feature) -> int:
 @kernel
 def mix(rule, a, b) -> float:
     """Combine two materials' coefficients by the rule with index ``rule`` in
-    ``settings.MIXING_RULES``: max, min, mean, product, sqrt."""
+    ``context.MIXING_RULES``: max, min, mean, product, sqrt."""
     if rule == 0:
         return max(a, b)
     if rule == 1:
@@ -261,7 +261,7 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     integrations (the step start, ``m = 0``, and after each of them, here), so the
     largest ``|m|`` seen here (``DRIFT``) times ``GROSS_J`` bounds that torque exactly;
     the contact cache keeps it (``state.KEPT_TORQUE``) for the tests of the law."""
-    threshold = ctx[settings.RESTITUTION_THRESHOLD]
+    threshold = ctx[context.RESTITUTION_THRESHOLD]
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
@@ -286,9 +286,9 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
 def prepare(body, w, ctx, terms, points, ids, n) -> None:
     """Effective masses, mixed materials, softness and the normal velocity and
     acceleration at the start of the step, for every point."""
-    restitution_rule = int(ctx[settings.RESTITUTION_RULE])
-    friction_rule = int(ctx[settings.FRICTION_RULE])
-    inv_h = ctx[settings.INV_H]
+    restitution_rule = int(ctx[context.RESTITUTION_RULE])
+    friction_rule = int(ctx[context.FRICTION_RULE])
+    inv_h = ctx[context.INV_H]
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         nx, ny = points[k, NX], points[k, NY]
@@ -317,7 +317,7 @@ def prepare(body, w, ctx, terms, points, ids, n) -> None:
         points[k, MIXED_FRICTION] = mix(friction_rule, body[w, a, FRICTION], body[w, b, FRICTION])
         # Against a body that cannot move, the contact is twice as stiff (Box2D).
         hard = terms[a, MOVABLE] == 0.0 or terms[b, MOVABLE] == 0.0
-        base = settings.HARD_RATE if hard else settings.SOFT_RATE
+        base = context.HARD_RATE if hard else context.SOFT_RATE
         points[k, BIAS_RATE] = ctx[base]
         points[k, MASS_SCALE] = ctx[base + 1]
         points[k, IMPULSE_SCALE] = ctx[base + 2]

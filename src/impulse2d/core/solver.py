@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 
-from . import settings
+from . import context
 from ._jit import inline, kernel
 from .state import ANGLE, OMEGA, VX, VY, X, Y
 from .workspace import (
@@ -144,7 +144,7 @@ def warm_start(body, w, points, ids, n) -> None:
 @inline
 def solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
     """Non-penetration at point ``k`` (see ``sweep``)."""
-    inv_h, push_speed = ctx[settings.INV_H], ctx[settings.PUSH_SPEED]
+    inv_h, push_speed = ctx[context.INV_H], ctx[context.PUSH_SPEED]
     a, b = ids[k, 0], ids[k, 1]
     s = current_separation(body, w, a, b, points, k, terms)
     if s > 0.0:
@@ -196,10 +196,10 @@ def soft_row(body, w, ctx, terms, points, ids, k, use_bias):
     effective inverse mass, ``lambda`` its accumulated impulse), as in ``solve_normal``."""
     s = current_separation(body, w, ids[k, 0], ids[k, 1], points, k, terms)
     if s > 0.0:
-        return 1.0, s * ctx[settings.INV_H], 0.0
+        return 1.0, s * ctx[context.INV_H], 0.0
     if use_bias:
         mass_scale = points[k, MASS_SCALE]
-        bias = max(mass_scale * points[k, BIAS_RATE] * s, -ctx[settings.PUSH_SPEED])
+        bias = max(mass_scale * points[k, BIAS_RATE] * s, -ctx[context.PUSH_SPEED])
         return mass_scale, bias, points[k, IMPULSE_SCALE]
     return 1.0, 0.0, 0.0
 
@@ -389,7 +389,7 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
     which the solver's own passes leave a few per cent short of for an impact that
     happens within one step (two boxes meeting face to face would part again instead of
     moving on together)."""
-    threshold, h = ctx[settings.RESTITUTION_THRESHOLD], ctx[settings.H]
+    threshold, h = ctx[context.RESTITUTION_THRESHOLD], ctx[context.H]
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
         eligible = points[k, APPROACH_SPEED] < -threshold and points[k, MAX_J] > 0.0

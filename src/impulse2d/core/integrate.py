@@ -23,7 +23,8 @@ import math
 
 import numpy as np
 
-from . import envelope, settings
+from .. import envelope
+from . import context
 from ._jit import kernel
 from .state import (
     ANCHOR_AX,
@@ -100,7 +101,7 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
     """Fill the step terms of every body of world ``w`` (see ``workspace``). (The loop
     body is written out here rather than called: a compiled helper that branches costs
     numba's reference counting of every array it is handed, per call.)"""
-    h, spec, substeps = ctx[settings.H], ctx[settings.SPECULATIVE], ctx[settings.SUBSTEPS]
+    h, spec, substeps = ctx[context.H], ctx[context.SPECULATIVE], ctx[context.SUBSTEPS]
     for i in range(shapes.shape[0]):
         kind, motion = shapes[i, 0], shapes[i, 1]
         enabled = body_i[w, i, ENABLED] == 1
@@ -112,8 +113,8 @@ def body_terms(body, body_i, shapes, w, ctx, terms) -> None:
             inv_mass = body[w, i, INV_MASS]
             terms[i, STEP_INV_MASS] = inv_mass
             terms[i, STEP_INV_MOMENT] = body[w, i, INV_MOMENT]
-            terms[i, ACCEL_X] = h * (ctx[settings.GRAVITY_X] + body[w, i, FX] * inv_mass)
-            terms[i, ACCEL_Y] = h * (ctx[settings.GRAVITY_Y] + body[w, i, FY] * inv_mass)
+            terms[i, ACCEL_X] = h * (ctx[context.GRAVITY_X] + body[w, i, FX] * inv_mass)
+            terms[i, ACCEL_Y] = h * (ctx[context.GRAVITY_Y] + body[w, i, FY] * inv_mass)
             terms[i, ACCEL_W] = h * body[w, i, TORQUE] * body[w, i, INV_MOMENT]
             terms[i, ROLL_H] = h * body[w, i, ROLLING]
             if body[w, i, DAMP_H] != h:  # exp(-drag h), recomputed only when h or drag change
@@ -150,7 +151,7 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
     impulse ``J`` at an anchor ``r`` speeds every point of the body up by at most
     ``J (1/m + |r x u| R / I)``. A stretched spring can fling a resting body across a
     plane in one step; the contacts are made from this reach, so the plane is there."""
-    dt = ctx[settings.DT]
+    dt = ctx[context.DT]
     for k in range(ends.shape[0]):
         if not spring_acts(body_i, spring, ends, w, k):
             continue
@@ -172,7 +173,7 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
 @kernel
 def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
     """Each body's broadphase box (``LEFT`` ... ``TOP``, see ``workspace``)."""
-    dt = ctx[settings.DT]
+    dt = ctx[context.DT]
     for i in range(shapes.shape[0]):
         kind = shapes[i, 0]
         enabled = body_i[w, i, ENABLED] == 1

@@ -1,9 +1,9 @@
-"""Render a demo scene to a GIF or MP4: ``python -m impulse2d.demo NAME``.
+"""Render a demo scene to a GIF or MP4: ``python -m impulse2d.apps.demo NAME``.
 
-    python -m impulse2d.demo --list
-    python -m impulse2d.demo m08-box-plane                      # writes m08-box-plane.gif
-    python -m impulse2d.demo pool-break --out break.mp4 --fps 60 --debug contacts,velocities
-    python -m impulse2d.demo pyramid --png pyramid.png          # just the last frame
+    python -m impulse2d.apps.demo --list
+    python -m impulse2d.apps.demo m08-box-plane                      # writes m08-box-plane.gif
+    python -m impulse2d.apps.demo pool-break --out break.mp4 --fps 60 --debug contacts,velocities
+    python -m impulse2d.apps.demo pyramid --png pyramid.png          # just the last frame
 
 The physics is stepped at the scene's own ``dt``; a frame is rendered every
 ``round(1 / (fps * dt))`` steps, and the file plays at the frame rate that gives (which is
@@ -81,9 +81,9 @@ def _non_negative_int(value: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The command line parser of ``python -m impulse2d.demo``."""
+    """The command line parser of ``python -m impulse2d.apps.demo``."""
     parser = argparse.ArgumentParser(
-        prog="python -m impulse2d.demo",
+        prog="python -m impulse2d.apps.demo",
         description="Render an impulse2d demo scene to a GIF or MP4 (or its last frame to PNG).",
     )
     parser.add_argument("name", nargs="?", type=_scene_name, help="scene to render (see --list)")

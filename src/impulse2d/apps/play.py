@@ -1,4 +1,4 @@
-"""Play the games yourself: ``python -m impulse2d.play pool`` or ``... play slingshot``.
+"""Play the games yourself: ``python -m impulse2d.apps.play pool`` or ``... play slingshot``.
 
 The tutorial's last milestone: its shot games in a pygame-ce window (the ``play`` extra),
 one move at a time, as the Gymnasium environments play them. Controls:
@@ -33,11 +33,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _raster as raster
+from .. import _raster as raster
 from .sandbox import CUE_COLOUR, display_problem
 
 if TYPE_CHECKING:
-    from .envs._core import ShotGame
+    from ..envs._core import ShotGame
 
 GAMES = {
     "pool": "impulse2d.envs.pool:PoolGame",
@@ -271,9 +271,9 @@ class Player:
 
 # -- the command ---------------------------------------------------------------------------
 def parser() -> argparse.ArgumentParser:
-    """The command line of ``python -m impulse2d.play``."""
+    """The command line of ``python -m impulse2d.apps.play``."""
     cli = argparse.ArgumentParser(
-        prog="python -m impulse2d.play",
+        prog="python -m impulse2d.apps.play",
         description="Play the impulse2d games with the mouse: drag and release to shoot, "
         "P restarts, Esc quits.",
     )

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from . import settings
+from . import context
 from ._jit import kernel
 from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
 from .workspace import (
@@ -353,7 +353,7 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
     """The points of every candidate pair, in pair order and, within a pair, by feature.
     A pair's margin is what the two can close this step plus their speculative distances.
     Returns the count (past the capacity of ``points``, only counted)."""
-    dt = ctx[settings.DT]
+    dt = ctx[context.DT]
     count = 0
     for k in range(n_pairs):
         a, b = pairs[k, 0], pairs[k, 1]

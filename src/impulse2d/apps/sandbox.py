@@ -1,4 +1,4 @@
-"""A window to play with the demo scenes: ``python -m impulse2d.sandbox [--scene NAME]``.
+"""A window to play with the demo scenes: ``python -m impulse2d.apps.sandbox [--scene NAME]``.
 
 Needs the ``play`` extra (pygame-ce) and a display. Controls, as the tutorial's
 application has them:
@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from . import _raster as raster
+from .. import _raster as raster
+from ..render import Camera, Renderer
 from .demo import SCENES, Scene, get
-from .render import Camera, Renderer
 
 CUE_GAIN = 3.0  # 1/s: velocity change (m/s) per metre of drag
 CUE_COLOUR = np.array((240, 240, 240), np.float32)
@@ -49,7 +49,7 @@ def display_problem() -> str | None:
         return (
             "no display: DISPLAY and WAYLAND_DISPLAY are unset, so no window can open. Run "
             "it on a desktop, or render scenes to files headless with "
-            "'python -m impulse2d.demo NAME --out NAME.gif'"
+            "'python -m impulse2d.apps.demo NAME --out NAME.gif'"
         )
     return None
 

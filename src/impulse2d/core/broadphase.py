@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import settings
+from . import context
 from ._jit import inline, kernel
 from .state import DYNAMIC, ENABLED, PLANE, RESTITUTION, SAP_ORDER
 from .workspace import BOTTOM, LEFT, MOVABLE, MOVING, PUSHED, REACH, RIGHT, TOP
@@ -138,7 +138,7 @@ def pushed_reach(body, shapes, w, ctx, terms, pairs, count) -> None:
     A plane's contacts with a body are made from this: a light body struck towards a
     plane by a fast one must find the plane there (planes are infinite, so a far
     speculative point costs one point and stops nothing it should not)."""
-    push = ctx[settings.PUSH_SPEED]
+    push = ctx[context.PUSH_SPEED]
     for i in range(shapes.shape[0]):
         terms[i, PUSHED] = terms[i, REACH] if terms[i, MOVABLE] == 1.0 else 0.0
     for k in range(min(count, pairs.shape[0])):

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 
-from . import settings
+from . import context
 from ._jit import kernel
 from .sleep import wake_neighbours
 from .state import (
@@ -133,7 +133,7 @@ def sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w,
 def record_contacts(body, body_i, w, ctx, points, ids, n) -> bool:
     """First contacts, and the damage of this step's impacts (see the module docstring);
     returns whether anything was damaged."""
-    threshold = ctx[settings.DAMAGE_SPEED]
+    threshold = ctx[context.DAMAGE_SPEED]
     damaged = False
     for k in range(n):
         impulse = points[k, STEP_J]

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import envelope
+from .. import envelope
 from ._jit import kernel
 from .state import (
     AWAKE,

@@ -1,13 +1,13 @@
 """Demo scenes of impulse2d, one per milestone of the tutorial plus its extras.
 
-    from impulse2d import demo
+    from impulse2d.apps import demo
     scene = demo.get("m08-box-plane")
     world = scene.build()
     for _ in range(scene.steps):
         scene.step(world)          # runs the scene's control (if any), then world.step(dt)
 
-``python -m impulse2d.demo --list`` prints the scenes; ``python -m impulse2d.demo NAME``
-renders one to a GIF (see ``impulse2d.demo.__main__``).
+``python -m impulse2d.apps.demo --list`` prints the scenes; ``python -m impulse2d.apps.demo NAME``
+renders one to a GIF (see ``impulse2d.apps.demo.__main__``).
 """
 
 from __future__ import annotations

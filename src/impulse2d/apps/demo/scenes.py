@@ -6,7 +6,7 @@ randomness draw from a seeded ``numpy`` generator, so a scene built twice steps 
 the same. Sizes are in metres, masses in kilograms, times in seconds.
 
 The registry with names, descriptions, time steps and camera views is in
-``impulse2d.demo`` (``__init__.py``); ``python -m impulse2d.demo --list`` prints it.
+``impulse2d.apps.demo`` (``__init__.py``); ``python -m impulse2d.apps.demo --list`` prints it.
 """
 
 from __future__ import annotations
