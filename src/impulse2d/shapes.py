@@ -144,9 +144,11 @@ class _Field:
             return
         array = self.validate(obj, value, world.batch_size)
         stored = (array * self.scale).reshape(world.batch_size, len(self.columns))
-        edit.write_body(world, obj._slot, self.columns, stored, moves=self.moves)
+        edit.write_body(
+            world.state, world.layout, obj._slot, self.columns, stored, moves=self.moves
+        )
         if self.rebuild:
-            edit.rebuild_mass(world, obj._slot)
+            edit.rebuild_mass(world.state, world.layout, obj._slot)
 
 
 class Part:
@@ -341,7 +343,9 @@ class Body(_Slot):
         flags = np.asarray(value)
         if flags.dtype != np.bool_ or flags.shape not in ((), (batch,)):
             raise ValueError(f"enabled must be a bool or {batch} bools, got {value!r}")
-        edit.set_enabled(self._world, self._slot, np.broadcast_to(flags, (batch,)))
+        edit.set_enabled(
+            self._world.state, self._world.layout, self._slot, np.broadcast_to(flags, (batch,))
+        )
 
     @property
     def sensed(self) -> Any:
@@ -358,7 +362,9 @@ class Body(_Slot):
     def wake(self) -> None:
         """Wake the body (and, at the next step, everything touching it)."""
         if self._world is not None:
-            edit.wake(self._world, np.arange(self._world.batch_size), self._slot)
+            edit.wake(
+                self._world.state, self._world.layout, np.arange(self._world.batch_size), self._slot
+            )
 
     # -- forces ------------------------------------------------------------------------------
     def apply_force(self, force: Any, point: Any = None) -> None:
@@ -385,7 +391,7 @@ class Body(_Slot):
         where = None if point is None else _checks.batched("point", point, batch, (2,))
         if where is not None:
             COORDINATE("point", where)
-        edit.apply(self._world, self._slot, name == "force", push, where)
+        edit.apply(self._world.state, self._world.layout, self._slot, name == "force", push, where)
 
     # -- geometry --------------------------------------------------------------------------
     def to_world(self, local_point: Any) -> np.ndarray:

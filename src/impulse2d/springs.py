@@ -107,8 +107,8 @@ class Spring(Part):
         check(name, array)
         world.state.spring[:, self._slot, columns] = array.reshape(world.batch_size, -1)
         everywhere = np.arange(world.batch_size)
-        edit.wake(world, everywhere, self.body1.slot)
-        edit.wake(world, everywhere, self.body2.slot)
+        edit.wake(world.state, world.layout, everywhere, self.body1.slot)
+        edit.wake(world.state, world.layout, everywhere, self.body2.slot)
 
     @property
     def length(self) -> Any:

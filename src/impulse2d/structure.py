@@ -94,7 +94,7 @@ def add(world: World, obj: Any) -> Any:
     world.layout.shapes[slot] = obj._kind, obj._motion
     for field, array in staged:
         state.body[:, slot, field.columns] = (array * field.scale).reshape(batch, -1)
-    edit.refresh_derived(world, slot, [ANGLE, LINEAR_DRAG])
+    edit.refresh_derived(world.state, slot, [ANGLE, LINEAR_DRAG])
     if obj._kind == CIRCLE:
         state.body[:, slot, HALF_H] = state.body[:, slot, HALF_W]
     if obj._kind == PLANE:
@@ -103,8 +103,8 @@ def add(world: World, obj: Any) -> Any:
     state.body_i[:, slot, AWAKE] = 0 if obj._motion == FIXED else 1
     world.objects["bodies"][slot] = obj
     obj._world, obj._slot, obj._values = world, slot, {}
-    edit.rebuild_mass(world, slot)
-    edit.forget(world, slot)
+    edit.rebuild_mass(world.state, world.layout, slot)
+    edit.forget(world.state, slot)
     return obj
 
 
@@ -128,8 +128,8 @@ def remove(world: World, obj: Any) -> None:
     values = {name: getattr(obj, name) for name in obj._saved}
     slot = obj._slot
     everywhere = np.arange(world.batch_size)
-    edit.wake(world, everywhere, slot, neighbours=True)
-    edit.forget(world, slot)
+    edit.wake(world.state, world.layout, everywhere, slot, neighbours=True)
+    edit.forget(world.state, slot)
     world.state.body_i[:, slot, ENABLED] = 0
     world.state.body_i[:, slot, AWAKE] = 0
     world.layout.shapes[slot] = FREE, DYNAMIC
@@ -164,8 +164,8 @@ def _add_spring(world: World, spring: Spring) -> Spring:
     world.state.spring[:, slot, SPRING_ON] = 1.0
     spring._values = {}
     everywhere = np.arange(world.batch_size)
-    edit.wake(world, everywhere, spring.body1.slot)
-    edit.wake(world, everywhere, spring.body2.slot)
+    edit.wake(world.state, world.layout, everywhere, spring.body1.slot)
+    edit.wake(world.state, world.layout, everywhere, spring.body2.slot)
     return spring
 
 
@@ -175,7 +175,7 @@ def _remove_spring(world: World, spring: Spring) -> None:
     world.state.spring[:, spring._slot, SPRING_ON] = 0.0
     world.layout.springs[spring._slot] = -1
     world.objects["springs"][spring._slot] = None
-    edit.wake(world, np.arange(world.batch_size), spring.body1.slot)
+    edit.wake(world.state, world.layout, np.arange(world.batch_size), spring.body1.slot)
     spring._world, spring._slot, spring._values = None, -1, values
 
 

@@ -215,7 +215,7 @@ class World:
         everywhere = np.arange(self.batch_size)
         for slot, obj in enumerate(self.objects["bodies"]):
             if obj is not None:
-                edit.wake(self, everywhere, slot)
+                edit.wake(self.state, self.layout, everywhere, slot)
 
     @property
     def threads(self) -> int:
@@ -408,7 +408,7 @@ class World:
         """Bring every body of the given worlds (default: all) to rest at once: velocities
         zero, dynamic bodies asleep. A game that caps how long a move may run uses this to
         end it the same way whether a world is stepped alone or in a batch."""
-        edit.stop(self, self._worlds(worlds))
+        edit.stop(self.state, self.layout, self._worlds(worlds))
 
     def reset_events(self, worlds: Any = None) -> None:
         """Forget what the bodies of the given worlds (default: all) sensed and touched
