@@ -104,6 +104,14 @@ def write_body(
     wake(state, layout, changed, slot, neighbours=moves)
 
 
+def write_rows(
+    state: WorldState, table: str, slot: int, columns: list[int], values: np.ndarray
+) -> None:
+    """Write ``values`` (B, k) into ``columns`` of a slot's row of ``state.<table>`` (a
+    spring's or a sensor's: nothing derived follows, and they wake nothing themselves)."""
+    getattr(state, table)[:, slot, columns] = values
+
+
 def refresh_derived(state: WorldState, slot: int, columns: list[int]) -> None:
     """Keep the derived columns of a body current after a write: the rotation's cosine
     and sine, and (invalidated, recomputed at the next step) the drag factors."""

@@ -9,12 +9,12 @@ is a box with ``outside=True``.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from . import _checks
+from . import edit
+from .columns import COORDINATE, SIZE, Column, Part, per_world
 from .core.state import (
     BOX,
     CIRCLE,
@@ -27,21 +27,6 @@ from .core.state import (
     SENSOR_X,
     SENSOR_Y,
 )
-from .shapes import COORDINATE, SIZE, Part, per_world
-
-# name -> (columns of state.sensor, shape of one value, check(name, array) against the
-# envelope or None, stored = value * scale)
-_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], Callable[[str, Any], None] | None, float]] = {
-    "position": ([SENSOR_X, SENSOR_Y], (2,), COORDINATE, 1.0),
-    "angle": ([SENSOR_ANGLE], (), None, 1.0),
-    "radius": ([SENSOR_HW], (), SIZE, 1.0),
-    "width": ([SENSOR_HW], (), SIZE, 0.5),
-    "height": ([SENSOR_HH], (), SIZE, 0.5),
-}
-
-
-def _property(name: str, doc: str) -> property:
-    return property(lambda self: self._get(name), lambda self, v: self._set(name, v), doc=doc)
 
 
 class Sensor(Part):
@@ -51,11 +36,15 @@ class Sensor(Part):
     ``disables`` are fixed at construction; the region can move and be resized, and
     ``enabled`` switches the sensor per world."""
 
-    position = _property("position", "Centre of the region (m).")
-    angle = _property("angle", "Rotation of a box region (rad).")
-    radius = _property("radius", "Radius of a circular region (m).")
-    width = _property("width", "Width of a box region (m).")
-    height = _property("height", "Height of a box region (m).")
+    position = Column(
+        (SENSOR_X, SENSOR_Y), "sensor", limit=COORDINATE, doc="Centre of the region (m)."
+    )
+    angle = Column((SENSOR_ANGLE,), "sensor", doc="Rotation of a box region (rad).")
+    radius = Column((SENSOR_HW,), "sensor", limit=SIZE, doc="Radius of a circular region (m).")
+    width = Column((SENSOR_HW,), "sensor", limit=SIZE, scale=0.5, doc="Width of a box region (m).")
+    height = Column(
+        (SENSOR_HH,), "sensor", limit=SIZE, scale=0.5, doc="Height of a box region (m)."
+    )
 
     def __init__(
         self,
@@ -96,35 +85,14 @@ class Sensor(Part):
         """True if a body that triggers the sensor is switched off."""
         return bool(self.flags & SENSE_DISABLES)
 
-    def _check_name(self, name: str) -> None:
+    def _check_readable(self, name: str) -> None:
         circle_only, box_only = name == "radius", name in ("width", "height")
         if (circle_only and self.kind == BOX) or (box_only and self.kind == CIRCLE):
             shape = "box" if self.kind == BOX else "circle"
             raise AttributeError(f"a {shape} sensor has no {name}")
 
-    def _get(self, name: str) -> Any:
-        self._check_name(name)
-        if self._world is None:
-            value = self._values[name]
-            return value.copy() if isinstance(value, np.ndarray) else value
-        columns, tail, _, scale = _COLUMNS[name]
-        values = self._world.state.sensor[:, self._slot, columns] / scale
-        return per_world(values if tail else values[:, 0], self._world.batch_size)
-
-    def _set(self, name: str, value: Any) -> None:
-        self._check_name(name)
-        columns, tail, check, scale = _COLUMNS[name]
-        if self._world is None:
-            kept = _checks.detached(name, value, tail)
-            if check:
-                check(name, np.asarray(kept))
-            self._values[name] = kept
-            return
-        batch = self._world.batch_size
-        array = _checks.batched(name, value, batch, tail)
-        if check:
-            check(name, array)
-        self._world.state.sensor[:, self._slot, columns] = (array * scale).reshape(batch, -1)
+    def _write(self, column: Column, stored: np.ndarray) -> None:
+        edit.write_rows(self._world.state, "sensor", self._slot, column.columns, stored)
 
     @property
     def enabled(self) -> Any:

@@ -1,11 +1,12 @@
 """The friendly objects: ``Circle``, ``Box`` and ``Plane``, views of one body slot.
 
 As in pymunk, an object holds no physics state of its own once it is in a world: every
-attribute is a property that reads a fresh copy from the world's arrays
-(``world.state.body[:, slot, ...]``), and every setter validates its input and writes
-through ``edit``, which keeps derived values consistent and wakes the body. Before
-``World.add`` (and after ``World.remove``) the object keeps its values itself, so nothing
-a user set up is lost by removing and adding again.
+attribute is a ``Column`` (``columns.py``, the descriptor springs and sensors use too)
+that reads a fresh copy from the world's arrays (``world.state.body[:, slot, ...]``), and
+every assignment validates its input and writes through ``edit``, which keeps derived
+values consistent and wakes the body. Before ``World.add`` (and after ``World.remove``)
+the object keeps its values itself, so nothing a user set up is lost by removing and
+adding again.
 
 In a batch of ``B`` worlds a property returns one value per world (shape ``(B,)`` or
 ``(B, 2)``) and a setter accepts either one value for every world or one per world. In
@@ -14,13 +15,24 @@ a single world (``B == 1``) values are plain floats and arrays of shape ``(2,)``
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _checks, edit, envelope
+from .columns import (
+    ANGULAR_SPEED,
+    COORDINATE,
+    DECELERATION,
+    FRICTION_RANGE,
+    RATE,
+    RESTITUTION_RANGE,
+    SIZE,
+    SPEED,
+    Column,
+    Part,
+    per_world,
+)
 from .core.state import (
     ANGLE,
     ANGULAR_DRAG,
@@ -51,124 +63,7 @@ from .core.state import (
 )
 
 if TYPE_CHECKING:
-    from .world import World
-
-
-def per_world(values: np.ndarray, batch: int) -> Any:
-    """A (B, ...) readout as the user sees it: as is in a batch, a float or a (2,) array
-    in a single world."""
-    if batch == 1:
-        single = values[0]
-        return single.item() if single.ndim == 0 else single
-    return values
-
-
-# Checks against the envelope (``impulse2d.envelope``), shared by the fields below.
-SIZE = partial(_checks.within, low=envelope.SIZE[0], high=envelope.SIZE[1], unit=" m")
-COORDINATE = partial(_checks.within, low=-envelope.COORDINATE, high=envelope.COORDINATE, unit=" m")
-SPEED = partial(_checks.magnitude_at_most, high=envelope.SPEED, unit=" m/s")
-ANGULAR_SPEED = partial(
-    _checks.within, low=-envelope.ANGULAR_SPEED, high=envelope.ANGULAR_SPEED, unit=" rad/s"
-)
-RESTITUTION_RANGE = partial(_checks.within, low=0.0, high=envelope.RESTITUTION)
-FRICTION_RANGE = partial(_checks.within, low=0.0, high=envelope.FRICTION)
-RATE = partial(_checks.within, low=0.0, high=envelope.RATE, unit=" 1/s")
-DECELERATION = partial(_checks.within, low=0.0, high=envelope.ACCELERATION, unit=" m/s^2")
-
-
-class _Field:
-    """Descriptor for one per-world value of a body: a scalar column or a 2-vector.
-
-    ``columns`` are ``state.body`` columns; ``rule`` is the validation (``'> 0'``,
-    ``'>= 0'`` or ``None`` for any finite number; ``finite=False`` also admits +inf);
-    ``limit(name, array)`` checks the value against ``impulse2d.envelope``;
-    ``rebuild``: the derived mass properties must be recomputed after a write; ``moves``:
-    the write teleports or resizes the body (what rested on it wakes);
-    ``scale``: stored = value * scale (a box stores half its width).
-    """
-
-    def __init__(
-        self,
-        columns: tuple[int, ...],
-        rule: str | None = None,
-        rebuild: bool = False,
-        moves: bool = False,
-        scale: float = 1.0,
-        finite: bool = True,
-        limit: Callable[[str, np.ndarray], None] | None = None,
-        doc: str = "",
-    ) -> None:
-        self.columns, self.rule, self.limit = list(columns), rule, limit
-        self.rebuild, self.moves, self.scale, self.finite = rebuild, moves, scale, finite
-        self.__doc__ = doc
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    @property
-    def tail(self) -> tuple[int, ...]:
-        return (2,) if len(self.columns) == 2 else ()
-
-    def __get__(self, obj: Any, owner: type | None = None) -> Any:
-        if obj is None:
-            return self
-        if obj._world is None:
-            value = obj._values[self.name]
-            return value.copy() if isinstance(value, np.ndarray) else value
-        world = obj._world
-        values = world.state.body[:, obj._slot, self.columns]
-        if not self.tail:
-            values = values[:, 0]
-        values = values / self.scale if self.scale != 1.0 else values.copy()
-        return per_world(values, world.batch_size)
-
-    def validate(self, obj: Any, value: Any, batch: int | None) -> np.ndarray:
-        """The value checked against the field's rules; (B, *tail) when ``batch`` is given."""
-        if batch is None:
-            array = np.asarray(_checks.detached(self.name, value, self.tail, finite=self.finite))
-        else:
-            array = _checks.batched(self.name, value, batch, self.tail, finite=self.finite)
-        if self.rule:
-            _checks.batched_rule(self.name, array, self.rule)
-        if self.limit:
-            self.limit(self.name, array)
-        obj._check_value(self.name, array)
-        return array
-
-    def __set__(self, obj: Any, value: Any) -> None:
-        obj._check_settable(self.name)
-        world = obj._world
-        if world is None:
-            array = self.validate(obj, value, None)
-            obj._values[self.name] = float(array) if array.shape == () else array
-            return
-        array = self.validate(obj, value, world.batch_size)
-        stored = (array * self.scale).reshape(world.batch_size, len(self.columns))
-        edit.write_body(
-            world.state, world.layout, obj._slot, self.columns, stored, moves=self.moves
-        )
-        if self.rebuild:
-            edit.rebuild_mass(world.state, world.layout, obj._slot)
-
-
-class Part:
-    """What every view of a slot has (bodies, planes, springs, sensors): the world it is
-    in and its slot there, and, while it is in none, the values it keeps itself."""
-
-    def __init__(self) -> None:
-        self._world: World | None = None
-        self._slot = -1
-        self._values: dict[str, Any] = {}
-
-    @property
-    def world(self) -> World | None:
-        """The world this object is in, or None."""
-        return self._world
-
-    @property
-    def slot(self) -> int:
-        """Index of this object's slot in its world's arrays (-1 when not in a world)."""
-        return self._slot
+    pass
 
 
 class _Slot(Part):
@@ -183,8 +78,14 @@ class _Slot(Part):
         if name in self._fixed_names:
             raise AttributeError(f"{name} cannot be changed after construction")
 
-    def _check_value(self, name: str, array: np.ndarray) -> None:
-        """Hook for rules that depend on more than one field (mass of a dynamic body)."""
+    def _write(self, column: Column, stored: np.ndarray) -> None:
+        """A body's write goes through ``edit``: it wakes what the change touches and
+        rebuilds the mass properties that follow from it."""
+        world = self._world
+        state, layout = world.state, world.layout
+        edit.write_body(state, layout, self._slot, column.columns, stored, moves=column.moves)
+        if column.rebuild:
+            edit.rebuild_mass(state, layout, self._slot)
 
     def _read(self, column: int, integer: bool = False) -> Any:
         world = self._world
@@ -214,19 +115,19 @@ class Body(_Slot):
     inverse mass), so nothing can move them and no energy leaks into them.
     """
 
-    position = _Field((X, Y), moves=True, limit=COORDINATE, doc="Centre of mass (m), settable.")
-    velocity = _Field((VX, VY), limit=SPEED, doc="Linear velocity (m/s), settable.")
-    angle = _Field((ANGLE,), moves=True, doc="Rotation (rad, counter-clockwise), settable.")
-    angular_velocity = _Field((OMEGA,), limit=ANGULAR_SPEED, doc="Angular velocity (rad/s, CCW).")
-    mass = _Field((MASS,), rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
-    restitution = _Field((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
-    friction = _Field((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
-    linear_drag = _Field((LINEAR_DRAG,), limit=RATE, doc="Linear drag (1/s).")
-    angular_drag = _Field((ANGULAR_DRAG,), limit=RATE, doc="Angular drag (1/s).")
-    rolling_resistance = _Field(
+    position = Column((X, Y), moves=True, limit=COORDINATE, doc="Centre of mass (m), settable.")
+    velocity = Column((VX, VY), limit=SPEED, doc="Linear velocity (m/s), settable.")
+    angle = Column((ANGLE,), moves=True, doc="Rotation (rad, counter-clockwise), settable.")
+    angular_velocity = Column((OMEGA,), limit=ANGULAR_SPEED, doc="Angular velocity (rad/s, CCW).")
+    mass = Column((MASS,), rule=">= 0", rebuild=True, doc="Mass (kg, > 0 if dynamic), settable.")
+    restitution = Column((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
+    friction = Column((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
+    linear_drag = Column((LINEAR_DRAG,), limit=RATE, doc="Linear drag (1/s).")
+    angular_drag = Column((ANGULAR_DRAG,), limit=RATE, doc="Angular drag (1/s).")
+    rolling_resistance = Column(
         (ROLLING,), limit=DECELERATION, doc="Constant deceleration of the speed (m/s^2)."
     )
-    health = _Field(
+    health = Column(
         (HEALTH,), rule="> 0", finite=False, doc="Left before impacts break it (N s); inf: never."
     )
 
@@ -443,7 +344,7 @@ class Circle(Body):
 
     _kind = CIRCLE
     _saved = (*Body._saved, "radius")
-    radius = _Field((HALF_W,), limit=SIZE, rebuild=True, moves=True, doc="Radius (m).")
+    radius = Column((HALF_W,), limit=SIZE, rebuild=True, moves=True, doc="Radius (m).")
 
     def __init__(self, *, radius: Any = 0.5, **body: Any) -> None:
         super().__init__(**body)
@@ -467,8 +368,8 @@ class Box(Body):
 
     _kind = BOX
     _saved = (*Body._saved, "width", "height")
-    width = _Field((HALF_W,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Width (m).")
-    height = _Field((HALF_H,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Height (m).")
+    width = Column((HALF_W,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Width (m).")
+    height = Column((HALF_H,), limit=SIZE, rebuild=True, moves=True, scale=0.5, doc="Height (m).")
 
     def __init__(self, *, width: Any = 1.0, height: Any = 1.0, **body: Any) -> None:
         super().__init__(**body)
@@ -497,9 +398,9 @@ class Plane(_Slot):
     _kind = PLANE
     _fixed_names = ("normal",)
     _saved = ("point", "restitution", "friction")
-    point = _Field((X, Y), moves=True, limit=COORDINATE, doc="A point on the surface (m).")
-    restitution = _Field((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
-    friction = _Field((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
+    point = Column((X, Y), moves=True, limit=COORDINATE, doc="A point on the surface (m).")
+    restitution = Column((RESTITUTION,), limit=RESTITUTION_RANGE, doc="Restitution coefficient.")
+    friction = Column((FRICTION,), limit=FRICTION_RANGE, doc="Coulomb friction coefficient.")
 
     def __init__(
         self,

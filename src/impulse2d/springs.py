@@ -9,37 +9,16 @@ sideways motion a spring cannot resist.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _checks, edit, envelope
+from . import edit
+from .columns import COORDINATE, LENGTH, Column, Part
 from .core.state import ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, DAMPING, REST_LENGTH, STIFFNESS
-from .shapes import Part, per_world
 
 if TYPE_CHECKING:
     from .shapes import Body
-
-# Anchors and lengths within the envelope's coordinates (``impulse2d.envelope``); the
-# stiffness and damping are bounded by the stability check of every step instead.
-_LENGTH = partial(_checks.within, low=0.0, high=2.0 * envelope.COORDINATE, unit=" m")
-_ANCHOR = partial(_checks.within, low=-envelope.COORDINATE, high=envelope.COORDINATE, unit=" m")
-_NON_NEGATIVE = partial(_checks.batched_rule, rule=">= 0")
-
-# name -> (columns of state.spring, shape of one value, check(name, array))
-_COLUMNS: dict[str, tuple[list[int], tuple[int, ...], Callable[[str, Any], None]]] = {
-    "rest_length": ([REST_LENGTH], (), _LENGTH),
-    "stiffness": ([STIFFNESS], (), _NON_NEGATIVE),
-    "damping": ([DAMPING], (), _NON_NEGATIVE),
-    "anchor1": ([ANCHOR_AX, ANCHOR_AY], (2,), _ANCHOR),
-    "anchor2": ([ANCHOR_BX, ANCHOR_BY], (2,), _ANCHOR),
-}
-
-
-def _property(name: str, doc: str) -> property:
-    return property(lambda self: self._get(name), lambda self, v: self._set(name, v), doc=doc)
 
 
 class Spring(Part):
@@ -53,11 +32,22 @@ class Spring(Part):
     effective mass along it) makes ``World.step`` raise instead of exploding.
     """
 
-    rest_length = _property("rest_length", "Rest length L0 (m).")
-    stiffness = _property("stiffness", "Stiffness k (N/m).")
-    damping = _property("damping", "Damping c (N s/m) on the relative velocity along the spring.")
-    anchor1 = _property("anchor1", "Anchor on body1, body-local (m).")
-    anchor2 = _property("anchor2", "Anchor on body2, body-local (m).")
+    # Anchors and lengths within the envelope's coordinates; the stiffness and damping
+    # are bounded by the stability check of every step instead.
+    rest_length = Column((REST_LENGTH,), "spring", limit=LENGTH, doc="Rest length L0 (m).")
+    stiffness = Column((STIFFNESS,), "spring", rule=">= 0", doc="Stiffness k (N/m).")
+    damping = Column(
+        (DAMPING,),
+        "spring",
+        rule=">= 0",
+        doc="Damping c (N s/m) on the relative velocity along the spring.",
+    )
+    anchor1 = Column(
+        (ANCHOR_AX, ANCHOR_AY), "spring", limit=COORDINATE, doc="Anchor on body1, body-local (m)."
+    )
+    anchor2 = Column(
+        (ANCHOR_BX, ANCHOR_BY), "spring", limit=COORDINATE, doc="Anchor on body2, body-local (m)."
+    )
 
     def __init__(
         self,
@@ -87,28 +77,14 @@ class Spring(Part):
         self.stiffness, self.damping = stiffness, damping
         self.anchor1, self.anchor2 = anchor1, anchor2
 
-    def _get(self, name: str) -> Any:
-        if self._world is None:
-            value = self._values[name]
-            return value.copy() if isinstance(value, np.ndarray) else value
-        columns, tail, _ = _COLUMNS[name]
-        values = self._world.state.spring[:, self._slot, columns]
-        return per_world(values if tail else values[:, 0], self._world.batch_size)
-
-    def _set(self, name: str, value: Any) -> None:
-        columns, tail, check = _COLUMNS[name]
-        if self._world is None:
-            kept = _checks.detached(name, value, tail)
-            check(name, np.asarray(kept))
-            self._values[name] = kept
-            return
+    def _write(self, column: Column, stored: np.ndarray) -> None:
+        """A spring's write wakes both its bodies in every world."""
         world = self._world
-        array = _checks.batched(name, value, world.batch_size, tail)
-        check(name, array)
-        world.state.spring[:, self._slot, columns] = array.reshape(world.batch_size, -1)
+        state, layout = world.state, world.layout
+        edit.write_rows(state, "spring", self._slot, column.columns, stored)
         everywhere = np.arange(world.batch_size)
-        edit.wake(world.state, world.layout, everywhere, self.body1.slot)
-        edit.wake(world.state, world.layout, everywhere, self.body2.slot)
+        edit.wake(state, layout, everywhere, self.body1.slot)
+        edit.wake(state, layout, everywhere, self.body2.slot)
 
     @property
     def length(self) -> Any:

@@ -150,11 +150,11 @@ def _add_spring(world: World, spring: Spring) -> Spring:
     spring._world, spring._slot = world, slot
     try:
         for name in ("stiffness", "damping", "anchor1", "anchor2"):
-            spring._set(name, values[name])
+            setattr(spring, name, values[name])
         if values["rest_length"] is None:
             world.state.spring[:, slot, REST_LENGTH] = np.atleast_1d(spring.length)
         else:
-            spring._set("rest_length", values["rest_length"])
+            spring.rest_length = values["rest_length"]
     except ValueError:
         world.objects["springs"][slot] = None
         world.layout.springs[slot] = -1
@@ -194,7 +194,7 @@ def _add_sensor(world: World, sensor: Sensor) -> Sensor:
     sensor._world, sensor._slot = world, slot
     try:
         for name, value in values.items():
-            sensor._set(name, value)
+            setattr(sensor, name, value)
     except ValueError:
         world.objects["sensors"][slot] = None
         sensor._world, sensor._slot = None, -1
