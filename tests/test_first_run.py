@@ -139,12 +139,12 @@ def test_the_processes_of_one_run_say_it_once(tmp_path):
     first_compiles.start(STEP)  # a process that spoke speaks again (another kernel, later)
     assert len(first_out.getvalue().splitlines()) == 3
     other = CompileNotice(
-        kernels={("impulse2d.core.pipeline", "advance_parallel"): 75},
+        kernels={("impulse2d.core.pipeline", "another_kernel"): 75},
         stream=lambda: second_out,
         ready=lambda: False,
         claims=tmp_path,
     )
-    _Compiles(other, [0.0]).start(("impulse2d.core.pipeline", "advance_parallel"))
+    _Compiles(other, [0.0]).start(("impulse2d.core.pipeline", "another_kernel"))
     assert "about 75 s" in second_out.getvalue()  # another kernel: its own line
 
 

@@ -15,11 +15,10 @@ what it is doing, on stderr::
 (each is one line). A cached run prints nothing.
 
 *How it knows.* numba announces a compile with its ``numba:compile`` event only after
-the cache missed, so the notice is exact: it listens for the two kernels a step is
-one compiled call of (``pipeline.advance`` for one world, ``advance_parallel`` for a
-batch), whichever is compiled first, and stays quiet for the small kernels the facades
-call (a few seconds in all). A step kernel compiled once the stages it calls are
-compiled (the batched one after the single one) takes about 10 s, and says so.
+the cache missed, so the notice is exact: it listens for the kernel every step is one
+compiled call of (``pipeline.advance``, for one world or a chunk of a batch) and stays
+quiet for the small kernels the facades call (a few seconds in all). The step kernel
+compiled over stages already compiled takes a few seconds, and says so.
 
 *Processes.* The first ``import impulse2d`` of a process tree puts a run token in the
 environment, which child processes inherit; the first process of the tree to compile a
@@ -48,18 +47,14 @@ __all__ = ["QUIET", "CompileNotice", "install", "seconds_compiling"]
 QUIET = "IMPULSE2D_QUIET"
 _RUN = "IMPULSE2D_COMPILE_RUN"  # the run token child processes inherit
 
-# Seconds each step kernel takes to compile with an empty cache, measured with
-# bench/bench_startup.py on this project's machine (2 shared cores): 32-36 s of CPU for
-# the single-world one, about 40 s for the batched one compiled first. A step kernel
-# left to compile over compiled stages: 8-10 s.
-TYPICAL_SECONDS = {
-    ("impulse2d.core.pipeline", "advance"): 35,
-    ("impulse2d.core.pipeline", "advance_parallel"): 40,
-}
-ANOTHER_SECONDS = 10
-# The stage under both step kernels: when it is compiled (or cached), a step kernel left
-# to compile takes ANOTHER_SECONDS, not the whole compile.
-_CORE = ("impulse2d.core.pipeline", "advance_world")
+# Seconds the step kernel takes to compile with an empty cache, measured with
+# bench/bench_startup.py on this project's machine (2 shared cores). Compiled over stages
+# already compiled (or cached): about ANOTHER_SECONDS.
+TYPICAL_SECONDS = {("impulse2d.core.pipeline", "advance"): 30}
+ANOTHER_SECONDS = 5
+# A stage under the step kernel: when it is compiled (or cached), the step kernel left to
+# compile takes ANOTHER_SECONDS, not the whole compile.
+_CORE = ("impulse2d.core.solver", "sweep")
 
 
 def _name(dispatcher: Any) -> tuple[str, str]:
@@ -71,9 +66,9 @@ def core_compiled() -> bool:
     """Whether the stages of the step are compiled here or in numba's cache for this
     machine and these sources (then a step kernel takes about ANOTHER_SECONDS)."""
     try:
-        from .core import pipeline
+        import importlib
 
-        core = pipeline.advance_world
+        core = getattr(importlib.import_module(_CORE[0]), _CORE[1])
         if core.overloads:
             return True
         cache = core._cache  # numba's own cache of this dispatcher (private, hence try)

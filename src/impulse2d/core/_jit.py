@@ -20,10 +20,17 @@ The options, and why:
   so are a defaulted argument left out and passed); ``kernel`` makes such calls share
   the compile for the plain types (``_one_signature``). A literal only lets numba fold a
   branch, which changes no result.
-* ``inline`` only for the small helpers of the solver's and the contacts' inner loops
-  (called per point, where a call and its reference counting cost ~20 % of a step);
-  numba's own docs warn that inlining rarely pays and costs compile time, and a larger
-  function inlined at several call sites is compiled once per site.
+* ``inline`` for two kinds of function. The small helpers of the solver's and the
+  contacts' inner loops (called per point, where a call and its reference counting
+  cost ~20 % of a step). And the few levels above the stages, each called from one
+  place (``advance_world``, ``step_world``, ``collide_and_wake``, ``substeps``,
+  ``finish``; ``solve`` and ``relax``): numba links every kernel a kernel calls into its
+  module and optimises and emits all of it again, so each such level compiled as a
+  kernel of its own cost ~2 s of every first run (inlined, the first step compiles in
+  27 s of CPU instead of 33, a first batched step in 27 instead of 41). Not the stages
+  themselves: numba's inlining pass grows faster than the code it inlines, and with
+  every single-call stage inlined the first step took 100 s. A function inlined at
+  several call sites is compiled once per site.
 * no ``fastmath``: results must be bitwise repeatable, and the same alone, in a batch and
   on any number of threads. For the same reason kernels use ``math`` on scalars and
   write squares as ``x * x`` (CPython's ``x ** 2`` and ``math.hypot`` round differently
@@ -157,12 +164,8 @@ def kernel(function: F) -> F:
 
 
 def inline(function: F) -> F:
-    """Compile a small helper of the hot loops, inlined into its callers by numba (so
-    the arrays it is handed cost no reference counting per call). Only for helpers
-    called per contact point: each call site compiles it again."""
+    """Compile a function inlined into its callers by numba: a small helper of the hot
+    loops (the arrays it is handed cost no reference counting per call), or a level of
+    the step with one call site (see the module docstring). Each call site compiles it
+    again."""
     return numba.njit(cache=True, nogil=True, inline="always")(function)
-
-
-def parallel_kernel(function: F) -> F:
-    """Compile a function whose ``numba.prange`` loops run on the world's threads."""
-    return _one_signature(numba.njit(cache=True, nogil=True, parallel=True)(function))

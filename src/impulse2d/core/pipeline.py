@@ -10,10 +10,15 @@
     -> sensors -> clock -> the envelope check (``refusal``)
 
 ``advance_world`` repeats it for one world, up to a number of steps or until the world
-is at rest (a shot runs in one compiled call); ``advance`` and ``advance_parallel`` do
-that for many worlds, one after the other or spread over threads. Worlds never share
-anything during a step, so a world steps bitwise the same alone, in a batch, and on any
-number of threads.
+is at rest (a shot runs in one compiled call); ``advance`` does that for the worlds of a
+plan, one after the other (the runner hands chunks of a batch to threads, each a call of
+``advance``). Worlds never share anything during a step, so a world steps bitwise the
+same alone, in a batch, and on any number of threads.
+
+Only ``advance`` is compiled as a whole: ``advance_world`` and ``step_world`` are inlined
+into it. numba links the stages a kernel calls into the kernel's own module and optimises
+and emits machine code for all of it again, so each compiled level above the stages cost
+about 2 s of every first run.
 
 A step that finds more pairs or points than the scratch rows hold stops *before it
 changes the world* (waking aside, which the retried step would do too) and asks for
@@ -28,11 +33,10 @@ can put every world back when any of them is refused: a refused call changes not
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from . import context
-from ._jit import JIT_DISABLED, clear_stale_cache, kernel, parallel_kernel
+from ._jit import JIT_DISABLED, clear_stale_cache, inline, kernel
 from .broadphase import find_pairs
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
 from .events import break_bodies, record_contacts, sense
@@ -107,7 +111,7 @@ def rest_step(body, contact, world_i, time, w, ctx) -> None:
     world_i[w, STEPS] += 1
 
 
-@kernel
+@inline
 def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row) -> int:
     """Broadphase and narrowphase, waking the islands a moving body touches and looking
     again with them awake, until nothing more wakes. Returns the number of points, or -1
@@ -132,7 +136,7 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
         step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
 
 
-@kernel
+@inline
 def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once."""
@@ -150,7 +154,7 @@ def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
     restitution(body, w, ctx, terms, points, ids, n)
 
 
-@kernel
+@inline
 def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
     """Everything after the solver: contacts, events, forces, sleep, the clock."""
     body, body_i, spring, sensor, contact, contact_i, world_i, time = state
@@ -165,8 +169,8 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
             moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
             body_i[w, i, AWAKE] = 1 if moving else 0
     if ctx[context.SLEEPING] == 1.0:
-        islands = scratch.parents, scratch.members
-        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, *islands)
+        parents, members = scratch.parents, scratch.members
+        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, members)
     if damaged:
         break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
     sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
@@ -174,7 +178,7 @@ def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
     world_i[w, STEPS] += 1
 
 
-@kernel
+@inline
 def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     """One step of world ``w``; returns a status (``RUNNING`` when it stepped).
 
@@ -212,7 +216,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     return RUNNING
 
 
-@kernel
+@inline
 def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, ints, pairs, undo):
     """Step the world of plan row ``j`` until it has taken ``max_steps`` steps in this run
     (or, with ``until_rest``, is at rest), or a step cannot go on. ``pairs`` is the
@@ -258,26 +262,6 @@ def advance(
         if worst >= UNSTABLE_SPRING:  # the call is refused: the rest need not step
             return worst
     return worst
-
-
-@parallel_kernel
-def advance_parallel(
-    body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs, undo, fresh,
-) -> None:  # fmt: skip
-    """``advance`` with the plan's rows split into as many chunks as there are scratch
-    rows, the chunks spread over threads (each chunk steps its worlds in order)."""
-    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
-    rows, chunks = plan.shape[0], floats.shape[0]
-    for c in numba.prange(chunks):
-        for j in range(c * rows // chunks, (c + 1) * rows // chunks):
-            if fresh:
-                plan[j, PLAN_WORLD + 1 :] = 0
-            if plan[j, PLAN_STATUS] == RUNNING:
-                advance_world(
-                    state, layout, ctx, plan, j, max_steps, until_rest, floats[c], ints[c],
-                    pairs, undo,
-                )  # fmt: skip
 
 
 if not JIT_DISABLED:

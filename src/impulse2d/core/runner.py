@@ -15,19 +15,23 @@ if the room had been there from the start.
 (``refusal.restore``, from the undo rows each world's first step filled) and returns the
 plan, whose refused row says why; ``World`` raises.
 
-*Threads and fork.* numba's OpenMP layer (GNU libgomp, the default where installed)
-cannot run threads in a child process forked after it started them; numba aborts the
-child. A process forked after impulse2d ran threads (SB3's ``SubprocVecEnv`` with
-``start_method="fork"``, Gymnasium's ``AsyncVectorEnv``) therefore steps its batches on
-one thread, with the same results. Spawned and forkserver children are unaffected.
-Calls from several Python threads take turns (numba's workqueue layer is not
-thread-safe; the others are, and the lock costs nothing measurable).
+*Threads.* A batch is cut into chunks of consecutive worlds (``_CHUNKS_PER_THREAD`` per
+thread, so a thread that finishes early, or that the shared machine does not pause,
+takes more), and Python threads take the chunks one at a time, each making one call of
+the compiled ``pipeline.advance`` on its chunk: the kernels release the GIL, so the
+threads run at once. The calling thread is one of them. Plain threads rather than
+numba's ``prange``: a parallel kernel compiled in 8 s of every first batched run (its
+loop is outlined and the whole step linked and optimised again), and numba's threading
+layers (OpenMP cannot start threads in a child forked after it ran them; the workqueue
+layer is not thread-safe) are not involved. A process forked while the helper threads
+exist makes new ones when it first needs them.
 """
 
 from __future__ import annotations
 
+import itertools
 import os
-import threading
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numba
@@ -38,24 +42,24 @@ from ._jit import JIT_DISABLED
 from .state import WorldState, grown
 from .workspace import Workspace
 
-_CHUNKS_PER_THREAD = 8  # more chunks than threads, so a thread that finishes early helps
-_lock = threading.Lock()
-_threads_started = False  # this process has run a parallel kernel
-_fork_unsafe = False  # ... and was forked from one that ran them on OpenMP
+_CHUNKS_PER_THREAD = 8  # for runs of several steps: a thread that finishes early helps
+_helpers: ThreadPoolExecutor | None = None  # the threads besides the caller's, made on demand
 
 
-def _after_fork_in_child() -> None:
-    global _fork_unsafe, _threads_started
-    if _threads_started:
-        try:
-            layer = numba.threading_layer()
-        except ValueError:  # never initialised
-            layer = ""
-        _fork_unsafe = _fork_unsafe or layer == "omp"
-    _threads_started = False
+def _drop_helpers_in_child() -> None:
+    global _helpers
+    _helpers = None  # a forked child has none of the parent's threads
 
 
-os.register_at_fork(after_in_child=_after_fork_in_child)
+os.register_at_fork(after_in_child=_drop_helpers_in_child)
+
+
+def _helper_threads(count: int) -> ThreadPoolExecutor:
+    """A pool of at least ``count`` helper threads (grown once, kept for the process)."""
+    global _helpers
+    if _helpers is None or _helpers._max_workers < count:
+        _helpers = ThreadPoolExecutor(max_workers=count, thread_name_prefix="impulse2d")
+    return _helpers
 
 
 def available_threads() -> int:
@@ -163,36 +167,22 @@ class Runner:
         undo: np.ndarray,
         fresh: bool,
     ) -> int:
-        global _threads_started
-        threads = min(self.threads, plan.shape[0])
-        # A batch goes through the parallel kernel even on one thread: numba hands its
-        # loop body arrays without reference counts, which makes it ~30 % faster than the
-        # plain loop (a single world does not pay for the thread launch, ~0.5 us).
-        serial = plan.shape[0] == 1 or _fork_unsafe
-        rows = 1 if serial else min(plan.shape[0], _CHUNKS_PER_THREAD * threads)
-        floats, ints = self._scratch(rows, state.body.shape[1], state.contact_capacity)
+        rows = plan.shape[0]
+        threads = 1 if JIT_DISABLED else min(self.threads, rows)
+        # One chunk a thread for a single step (its worlds cost about the same, and each
+        # chunk is a call and a hand-over between threads); more for longer runs, whose
+        # worlds come to rest at different times.
+        per_thread = 1 if max_steps == 1 else _CHUNKS_PER_THREAD
+        chunks = 1 if threads == 1 else min(rows, per_thread * threads)
+        floats, ints = self._scratch(chunks, state.body.shape[1], state.contact_capacity)
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
             state.contact_i, state.world_i, state.time, layout.rows, ctx, plan, max_steps,
             until_rest, floats, ints, self.pair_capacity, undo, fresh,
         )  # fmt: skip
-        if serial:
+        if chunks == 1:
             return pipeline.advance(*args)
-        with _lock:
-            if JIT_DISABLED:
-                pipeline.advance_parallel(*args)
-            else:
-                # Chunks are handed out one at a time, so a thread the machine pauses (the
-                # cores are shared) does not hold the others up with its fixed share.
-                old = numba.get_num_threads(), numba.get_parallel_chunksize()
-                numba.set_num_threads(threads)
-                numba.set_parallel_chunksize(1)
-                try:
-                    pipeline.advance_parallel(*args)
-                finally:
-                    numba.set_num_threads(old[0])
-                    numba.set_parallel_chunksize(old[1])
-            _threads_started = True
+        _in_chunks(args, chunks, threads)
         return int(plan[:, pipeline.PLAN_STATUS].max())
 
     def _scratch(self, rows: int, bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -208,3 +198,27 @@ class Runner:
             self._scratch_rows = (space.floats[:rows], space.ints[:rows])
             self._scratch_key = key
         return self._scratch_rows
+
+
+def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
+    """``pipeline.advance(*args)`` with the plan's rows cut into ``chunks`` chunks of
+    consecutive rows, each with a scratch row of its own, taken one at a time by
+    ``threads`` threads (the caller's and helpers)."""
+    plan, floats, ints = args[10], args[13], args[14]
+    rows = plan.shape[0]
+    next_chunk = itertools.count()  # each chunk to one thread only (its next is atomic)
+
+    def take_chunks() -> None:
+        for c in next_chunk:
+            if c >= chunks:
+                return
+            lo, hi = c * rows // chunks, (c + 1) * rows // chunks
+            pipeline.advance(
+                *args[:10], plan[lo:hi], *args[11:13], floats[c : c + 1], ints[c : c + 1],
+                *args[15:],
+            )  # fmt: skip
+
+    helpers = [_helper_threads(threads - 1).submit(take_chunks) for _ in range(threads - 1)]
+    take_chunks()
+    for helper in helpers:
+        helper.result()

@@ -305,13 +305,13 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
     return coupled
 
 
-@kernel
+@inline
 def solve(body, w, ctx, terms, points, ids, n) -> None:
     """The biased sweep of a substep: contacts pushed apart softly (``sweep``)."""
     sweep(body, w, ctx, terms, points, ids, n, True, False)
 
 
-@kernel
+@inline
 def relax(body, w, ctx, terms, points, ids, n, last_substep) -> None:
     """The relax sweep of a substep, without the position bias (``sweep``);
     ``last_substep``: the step's last, which leaves lone untouched points alone."""
