@@ -8,6 +8,7 @@ import hashlib
 import multiprocessing
 import subprocess
 import sys
+import threading
 
 import gymnasium as gym
 import numpy as np
@@ -51,7 +52,9 @@ def _fingerprint(threads: int | None = None, steps: int = 150) -> str:
 
 
 def _child(queue: multiprocessing.Queue) -> None:
-    queue.put(_fingerprint())
+    fingerprint = _fingerprint()
+    helpers = [t for t in threading.enumerate() if t.name.startswith("impulse2d")]
+    queue.put((fingerprint, len(helpers)))
 
 
 @pytest.mark.skipif(available_threads() < 2, reason="needs two cores")
@@ -72,9 +75,9 @@ def test_threads_setting_is_checked():
 
 @pytest.mark.parametrize("method", ["fork", "spawn", "forkserver"])
 def test_child_processes_step_like_the_parent(method):
-    """The parent has run threads (OpenMP cannot run threads in a child forked after
-    that, and impulse2d steps such a child's batches on one thread); every child gives
-    the parent's state bitwise."""
+    """The parent has run its helper threads before the fork; every child, forked or
+    not, steps its batches on threads of its own (a forked child has none of the
+    parent's: it starts new ones) and gives the parent's state bitwise."""
     expected = _fingerprint()  # threads started here, before any fork
     context = multiprocessing.get_context(method)
     queue = context.Queue()
@@ -83,7 +86,9 @@ def test_child_processes_step_like_the_parent(method):
     got = queue.get(timeout=300)
     process.join(timeout=60)
     assert process.exitcode == 0
-    assert got == expected
+    fingerprint, helpers = got
+    assert fingerprint == expected
+    assert helpers == (1 if available_threads() >= 2 else 0)
 
 
 def _pool_env() -> gym.Env:
