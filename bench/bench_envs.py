@@ -177,8 +177,8 @@ def _threads_line() -> str:
     return (
         f"threads: impulse2d vector envs step their batch on {p2.World().threads} "
         f"(World.threads, its default: every core numba sees; impulse2d.core.runner."
-        f"available_threads() = {available_threads()}, numba threading layer "
-        f"{numba.config.THREADING_LAYER}); a single env is one world on one thread"
+        f"available_threads() = {available_threads()}: Python threads, each stepping "
+        f"chunks of the batch in compiled code); a single env is one world on one thread"
     )
 
 
@@ -412,7 +412,7 @@ def _print_profile(cfg: Config) -> None:
     print()
     report.print_table(header, ("<", *[">"] * 9), rows)
     print(
-        "\ncompiled: the runner's compiled calls (pipeline.advance / advance_parallel) inside "
+        "\ncompiled: the runner's compiled calls (pipeline.advance, one a chunk of worlds) inside "
         "World.run_until_rest; run_until_rest Python: the rest of that method; env Python: "
         "the env step outside it (launch, scoring, observation, info; a vector env's "
         "autoresets, a single env's resets); compiled us/world-step: wall time over the "

@@ -26,11 +26,10 @@ single pool world, both after 100 steps of the break (the rack is breaking up, m
 balls moving); the 20-row pyramid after 100 steps; the 4,000-body rain after its 60
 untimed steps (mid-fall), all with ``bench_engine``'s settings. The batch runs in a
 ``numba.njit(parallel=True)`` kernel whose ``numba.prange`` goes over the worlds, on one
-thread (``numba.set_num_threads(1)``): the figures are per world-step on one core, as
-``Runner`` steps a batch on each of its threads. numba hands a parallel loop's body its
-arrays without reference counts, which makes it faster than a plain loop over the same
-worlds (``runner.py`` says ~30 %; the header gives the plain loop's figure for the full
-step). A single world runs in a plain ``numba.njit`` kernel, as ``Runner`` steps one
+thread (``numba.set_num_threads(1)``): the figures are per world-step on one core.
+(``Runner`` steps a batch as chunks of plain loops, ``pipeline.advance``, on Python
+threads; the header gives the plain loop's figure for the full step beside the parallel
+loop's.) A single world runs in a plain ``numba.njit`` kernel, as ``Runner`` steps one
 world. Scratch memory is one row of ``workspace.Workspace(1, bodies, contact_capacity,
 pair_capacity)`` cut by ``workspace.views``, with the capacities the world's runner had
 grown to after stepping the scene.
