@@ -42,7 +42,7 @@ from ._jit import JIT_DISABLED
 from .state import WorldState, grown
 from .workspace import Workspace
 
-_CHUNKS_PER_THREAD = 8  # for runs of several steps: a thread that finishes early helps
+_CHUNKS_PER_THREAD = 8  # more chunks than threads: a thread that finishes early helps
 _helpers: ThreadPoolExecutor | None = None  # the threads besides the caller's, made on demand
 
 
@@ -169,11 +169,7 @@ class Runner:
     ) -> int:
         rows = plan.shape[0]
         threads = 1 if JIT_DISABLED else min(self.threads, rows)
-        # One chunk a thread for a single step (its worlds cost about the same, and each
-        # chunk is a call and a hand-over between threads); more for longer runs, whose
-        # worlds come to rest at different times.
-        per_thread = 1 if max_steps == 1 else _CHUNKS_PER_THREAD
-        chunks = 1 if threads == 1 else min(rows, per_thread * threads)
+        chunks = 1 if threads == 1 else min(rows, _CHUNKS_PER_THREAD * threads)
         floats, ints = self._scratch(chunks, state.body.shape[1], state.contact_capacity)
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
