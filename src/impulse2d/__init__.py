@@ -11,7 +11,7 @@
 A ``World(batch_size=1024)`` (or ``world.replicate(1024)``) steps 1,024 copies of a scene
 in one set of arrays. SI units throughout.
 
-The first step after installing or updating compiles the engine's kernels (about 35 s
+The first step after installing or updating compiles the engine's kernels (about 25 s
 on two cores; numba caches them, and later runs load them in under half a second;
 ``python -m impulse2d.compile`` fills the cache ahead). It says so on stderr while it
 does; ``IMPULSE2D_QUIET=1`` silences it.

@@ -3,14 +3,14 @@
 numba compiles a kernel the first time it is called, unless its cache has it; the cache
 is written next to the sources (or under ``NUMBA_CACHE_DIR``) and kept until the kernel
 modules change. So the first step after installing or updating impulse2d waits while
-the step kernels compile, about 35 s on two cores, and every later run loads them in
+the step kernel compiles, about 25 s on two cores, and every later run loads them in
 well under a second (``python -m impulse2d.compile`` fills the cache ahead, for images,
 CI and cluster nodes). So that nobody takes that wait for a hang, the first run says
 what it is doing, on stderr::
 
     impulse2d: compiling the physics kernels (first run after installing or updating;
-    about 35 s on 2 cores, cached afterwards)...
-    impulse2d: compiled in 33 s; later runs load them from the cache
+    about 25 s on 2 cores, cached afterwards)...
+    impulse2d: compiled in 23 s; later runs load them from the cache
 
 (each is one line). A cached run prints nothing.
 
@@ -50,7 +50,7 @@ _RUN = "IMPULSE2D_COMPILE_RUN"  # the run token child processes inherit
 # Seconds the step kernel takes to compile with an empty cache, measured with
 # bench/bench_startup.py on this project's machine (2 shared cores). Compiled over stages
 # already compiled (or cached): about ANOTHER_SECONDS.
-TYPICAL_SECONDS = {("impulse2d.core.pipeline", "advance"): 30}
+TYPICAL_SECONDS = {("impulse2d.core.pipeline", "advance"): 25}
 ANOTHER_SECONDS = 5
 # A stage under the step kernel: when it is compiled (or cached), the step kernel left to
 # compile takes ANOTHER_SECONDS, not the whole compile.
