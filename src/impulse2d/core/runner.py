@@ -58,6 +58,8 @@ def _helper_threads(count: int) -> ThreadPoolExecutor:
     """A pool of at least ``count`` helper threads (grown once, kept for the process)."""
     global _helpers
     if _helpers is None or _helpers._max_workers < count:
+        if _helpers is not None:
+            _helpers.shutdown(wait=False)  # its threads end once the chunks queued on it are done
         _helpers = ThreadPoolExecutor(max_workers=count, thread_name_prefix="impulse2d")
     return _helpers
 
