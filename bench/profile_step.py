@@ -166,8 +166,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     if n + count_dormant(body_i, contact_i, world_i, w, terms) > points.shape[0]:
         return NEEDS_ROOM
     if ends.shape[0]:
-        measure = np.zeros(1)
-        spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H], measure)
+        spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H])
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     if stages == 5:

@@ -294,14 +294,14 @@ def test_spring_stability_measures_h2_k_w():
     w = 1 / m1 + 1 / m2
     for k, unstable in ((100.0, False), (4.0 / (h * h * w), True)):
         world, _, _, spring = _spring_world(m1, m2, k, c=c)
-        state, out = world.state, np.zeros(1)
-        worst = integrate.spring_stability(
-            state.body, state.body_i, state.spring, world.layout.springs, 0, terms_of(world),
-            h, out,
-        )  # fmt: skip
+        state = world.state
+        worst, measured, too_fast = integrate.spring_stability(
+            state.body, state.body_i, state.spring, world.layout.springs, 0, terms_of(world), h
+        )
         measure = h * h * k * w + 2 * h * c * w
         assert (worst == spring.slot) if unstable else (worst == -1)
-        assert out[0] == (pytest.approx(measure, rel=1e-12) if unstable else 0.0)
+        assert measured == (pytest.approx(measure, rel=1e-12) if unstable else 0.0)
+        assert not too_fast
 
 
 def test_unstable_spring_is_refused_and_the_world_does_not_step():

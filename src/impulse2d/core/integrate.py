@@ -295,12 +295,14 @@ def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
 
 
 @kernel
-def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
-    """The first spring the step cannot take (-1 if none): the least stable one, by the
-    measure ``h^2 k w + 2 h c w`` (unstable from 4), written to ``out[0]``; or, if every
-    spring is stable, one whose pull accelerates its anchors apart faster than the
-    envelope allows, ``(k |L - L0| + c |v_along|) w > envelope.ACCELERATION`` (as a force
-    on a body may not), flagged by ``out[1] = 1``."""
+def spring_stability(body, body_i, spring, ends, w, terms, h):
+    """``(slot, measure, too_fast)``: the first spring the step cannot take (slot -1 if
+    none): the least stable one, by the measure ``h^2 k w + 2 h c w`` (unstable from 4;
+    0.0 when none is); or, if every spring is stable, one whose pull accelerates its
+    anchors apart faster than the envelope allows, ``(k |L - L0| + c |v_along|) w >
+    envelope.ACCELERATION`` (as a force on a body may not), with ``too_fast`` True.
+    Returned, not written to an array the caller allocates: a GPU kernel cannot
+    allocate."""
     worst, measure, fast = -1, 0.0, -1
     for k in range(ends.shape[0]):
         if not spring_acts(body_i, spring, ends, w, k):
@@ -322,7 +324,6 @@ def spring_stability(body, body_i, spring, ends, w, terms, h, out) -> int:
         pull = (stiffness * abs(length - spring[w, k, REST_LENGTH]) + damping * along) * inverse
         if fast < 0 and pull > envelope.ACCELERATION:
             fast = k
-    out[0], out[1] = measure, 0.0
     if worst < 0 and fast >= 0:
-        worst, out[1] = fast, 1.0
-    return worst
+        return fast, measure, True
+    return worst, measure, False

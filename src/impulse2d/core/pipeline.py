@@ -33,8 +33,6 @@ can put every world back when any of them is refused: a refused call changes not
 
 from __future__ import annotations
 
-import numpy as np
-
 from . import context
 from ._jit import JIT_DISABLED, clear_stale_cache, inline, kernel
 from .broadphase import find_pairs
@@ -199,11 +197,10 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         plan_row[NEED_POINTS] = needed
         return NEEDS_ROOM
     if ends.shape[0]:
-        measure = np.zeros(2)
-        worst = spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H], measure)
+        worst, _, too_fast = spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H])
         if worst >= 0:
             plan_row[BAD_SLOT] = worst
-            return FAST_SPRING if measure[1] == 1.0 else UNSTABLE_SPRING
+            return FAST_SPRING if too_fast else UNSTABLE_SPRING
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)

@@ -31,8 +31,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from ._jit import kernel
 from .state import ANGLE, BOX, HALF_H, HALF_W, INV_MASS, NORMAL_X, NORMAL_Y, PLANE, X, Y
 from .workspace import AGAINST_PLANE
@@ -57,40 +55,67 @@ def depth_in_plane(body, shapes, w, i, plane) -> float:
 
 
 @kernel
-def _worst_excess(nx, ny, excess, m, tx, ty) -> float:
+def _plane(body, shapes, w, ids, n, i, first, allowed, j):
+    """``(n_x, n_y, excess, count)`` of body ``i``'s plane ``j``: its planes are the
+    distinct planes of its pairs (which start at point ``first``), in point order, at
+    most ``_MAX_PLANES``; ``excess`` is how much deeper than ``allowed`` the body is in
+    it; ``count`` how many planes come before ``j`` (all of them, with zeros, for ``j``
+    past the last). Looked up again where needed rather than gathered into arrays: the
+    step allocates nothing (a GPU kernel cannot), and a body has few planes."""
+    m = 0
+    for k in range(first, n):
+        if ids[k, 0] != i:
+            break
+        plane = ids[k, 1]
+        if shapes[plane, 0] != PLANE or (k > first and ids[k - 1, 1] == plane) or m == _MAX_PLANES:
+            continue
+        if m == j:
+            excess = depth_in_plane(body, shapes, w, i, plane) - allowed
+            return body[w, plane, NORMAL_X], body[w, plane, NORMAL_Y], excess, m
+        m += 1
+    return 0.0, 0.0, 0.0, m
+
+
+@kernel
+def _worst_excess(body, shapes, w, ids, n, i, first, allowed, m, tx, ty) -> float:
     """The largest ``excess_j - n_j . t`` over the ``m`` planes: how much deeper than
     allowed the body stays after the move ``t`` (<= 0: nowhere)."""
     worst = -math.inf
     for j in range(m):
-        worst = max(worst, excess[j] - (nx[j] * tx + ny[j] * ty))
+        nx, ny, excess, _ = _plane(body, shapes, w, ids, n, i, first, allowed, j)
+        worst = max(worst, excess - (nx * tx + ny * ty))
     return worst
 
 
 @kernel
-def _smallest_move(nx, ny, excess, m):
-    """The shortest translation ``t`` with ``n_j . t >= excess_j`` for the ``m`` planes (a
-    move along ``n_j`` takes the body out of plane ``j``; ``excess_j`` how much deeper it
-    is than allowed, negative for the planes it is clear of, which it must stay clear
-    of). A least-norm problem over half-planes in 2-D: its answer has at most two
-    constraints active, so it is one of ``excess_j n_j`` or the corner where two are met
-    exactly, and the candidates are few. If none meets them all (a body in a wedge of
-    planes narrower than itself), the one that leaves the least excess."""
+def _smallest_move(body, shapes, w, ids, n, i, first, allowed, m):
+    """The shortest translation ``t`` with ``n_j . t >= excess_j`` for the ``m`` planes of
+    body ``i`` (``_plane``: a move along ``n_j`` takes the body out of plane ``j``;
+    ``excess_j`` how much deeper it is than allowed, negative for the planes it is clear
+    of, which it must stay clear of). A least-norm problem over half-planes in 2-D: its
+    answer has at most two constraints active, so it is one of ``excess_j n_j`` or the
+    corner where two are met exactly, and the candidates are few. If none meets them all
+    (a body in a wedge of planes narrower than itself), the one that leaves the least
+    excess."""
+    where = (body, shapes, w, ids, n, i, first, allowed)
     best_x = best_y = 0.0
-    best_norm, best_worst = math.inf, _worst_excess(nx, ny, excess, m, 0.0, 0.0)
+    best_norm, best_worst = math.inf, _worst_excess(*where, m, 0.0, 0.0)
     tolerance = 1e-9 * (1.0 + max(abs(best_worst), 0.0))
     if best_worst <= 0.0:
         return 0.0, 0.0
     for j in range(m):
+        nxj, nyj, excess_j, _ = _plane(*where, j)
         for k in range(j, m):
+            nxk, nyk, excess_k, _ = _plane(*where, k)
             if k == j:
-                tx, ty = excess[j] * nx[j], excess[j] * ny[j]
+                tx, ty = excess_j * nxj, excess_j * nyj
             else:
-                det = nx[j] * ny[k] - ny[j] * nx[k]
+                det = nxj * nyk - nyj * nxk
                 if abs(det) < 1e-9:
                     continue  # parallel planes: no corner
-                tx = (excess[j] * ny[k] - excess[k] * ny[j]) / det
-                ty = (nx[j] * excess[k] - nx[k] * excess[j]) / det
-            worst, norm = _worst_excess(nx, ny, excess, m, tx, ty), math.hypot(tx, ty)
+                tx = (excess_j * nyk - excess_k * nyj) / det
+                ty = (nxj * excess_k - nxk * excess_j) / det
+            worst, norm = _worst_excess(*where, m, tx, ty), math.hypot(tx, ty)
             feasible, best_feasible = worst <= tolerance, best_worst <= tolerance
             if (feasible and (not best_feasible or norm < best_norm)) or (
                 not feasible and not best_feasible and worst < best_worst
@@ -103,19 +128,9 @@ def _smallest_move(nx, ny, excess, m):
 def _project_body(body, shapes, w, ids, n, i, first) -> None:
     """Move body ``i`` (its pairs start at point ``first``) out of its planes, at most
     ``_MAX_PLANES`` of them (the first by slot)."""
-    nx, ny, excess = np.empty(_MAX_PLANES), np.empty(_MAX_PLANES), np.empty(_MAX_PLANES)
     allowed = DEEPEST_FRACTION * min(body[w, i, HALF_W], body[w, i, HALF_H])
-    m = 0
-    for k in range(first, n):
-        if ids[k, 0] != i:
-            break
-        plane = ids[k, 1]
-        if shapes[plane, 0] != PLANE or (k > first and ids[k - 1, 1] == plane) or m == _MAX_PLANES:
-            continue
-        nx[m], ny[m] = body[w, plane, NORMAL_X], body[w, plane, NORMAL_Y]
-        excess[m] = depth_in_plane(body, shapes, w, i, plane) - allowed
-        m += 1
-    tx, ty = _smallest_move(nx, ny, excess, m)
+    m = _plane(body, shapes, w, ids, n, i, first, allowed, _MAX_PLANES)[3]
+    tx, ty = _smallest_move(body, shapes, w, ids, n, i, first, allowed, m)
     body[w, i, X] += tx
     body[w, i, Y] += ty
 
