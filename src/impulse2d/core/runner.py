@@ -202,7 +202,7 @@ def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
     """``pipeline.advance(*args)`` with the plan's rows cut into ``chunks`` chunks of
     consecutive rows, each with a scratch row of its own, taken one at a time by
     ``threads`` threads (the caller's and helpers)."""
-    plan, floats, ints = args[10], args[13], args[14]
+    *arrays, plan, max_steps, until_rest, floats, ints, pairs, undo, fresh = args
     rows = plan.shape[0]
     next_chunk = itertools.count()  # each chunk to one thread only (its next is atomic)
 
@@ -212,8 +212,8 @@ def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
                 return
             lo, hi = c * rows // chunks, (c + 1) * rows // chunks
             pipeline.advance(
-                *args[:10], plan[lo:hi], *args[11:13], floats[c : c + 1], ints[c : c + 1],
-                *args[15:],
+                *arrays, plan[lo:hi], max_steps, until_rest, floats[c : c + 1],
+                ints[c : c + 1], pairs, undo, fresh,
             )  # fmt: skip
 
     helpers = [_helper_threads(threads - 1).submit(take_chunks) for _ in range(threads - 1)]
