@@ -276,10 +276,12 @@ class World:
         """Advance every world by ``dt`` seconds (``substeps`` solver substeps inside), or
         ``steps`` times by ``dt`` in one compiled call."""
         context = self.settings.step_context(dt)
-        count = 1 if steps.__class__ is int and steps == 1 else _checks.positive_int("steps", steps)
-        runner = self._runner
-        every = runner.every_world(self.state.time.size)
-        plan, status = runner.run(self.state, self.layout, context, every, count, False)
+        if steps.__class__ is int and steps == 1:  # an RL loop's call: the runner's fast path
+            plan, status = self._runner.step_once(self.state, self.layout, context)
+        else:
+            count = _checks.positive_int("steps", steps)
+            every = self._runner.every_world(self.batch_size)
+            plan, status = self._runner.run(self.state, self.layout, context, every, count, False)
         if status:
             self._check_refusals(plan, context)
 

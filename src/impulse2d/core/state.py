@@ -127,6 +127,13 @@ class WorldState:
     world_i: np.ndarray
     time: np.ndarray
 
+    def __setattr__(self, name: str, value: object) -> None:
+        # Every replaced array (a grown one, a put-back one) counts up ``generation``, so a
+        # caller that keeps the arrays of a call (the runner's fast path) knows when
+        # they are stale without comparing eight of them.
+        object.__setattr__(self, name, value)
+        object.__setattr__(self, "generation", self.__dict__.get("generation", 0) + 1)
+
     @staticmethod
     def empty(batch: int, bodies: int, springs: int, sensors: int, contacts: int) -> WorldState:
         row, row_i = body_defaults()
