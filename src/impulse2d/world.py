@@ -116,6 +116,27 @@ def _setting(name: str, doc: str) -> property:
     )
 
 
+def _device(device: Any) -> str:
+    """``device`` checked: ``'cpu'``, or ``'cuda'`` where numba-cuda finds a GPU (or runs
+    its simulator, ``NUMBA_ENABLE_CUDASIM=1``)."""
+    if device not in ("cpu", "cuda"):
+        raise ValueError(f"device must be 'cpu' or 'cuda', got {device!r}")
+    if device == "cuda":
+        try:
+            import numba_cuda  # noqa: F401  (numba's own numba.cuda is deprecated)
+            from numba import cuda
+        except ImportError as missing:
+            raise ValueError(
+                "device='cuda' needs numba-cuda: pip install 'impulse2d[gpu]'"
+            ) from missing
+        if not cuda.is_available():
+            raise ValueError(
+                "device='cuda' found no usable NVIDIA GPU (numba.cuda.is_available() is "
+                "False: no GPU, no driver, or a driver too old for numba-cuda)"
+            )
+    return device
+
+
 class World:
     """A 2D physics world, or a batch of ``batch_size`` worlds stepped together.
 
@@ -146,6 +167,10 @@ class World:
       ``health`` (the steady push of a resting stack does no damage).
     * ``threads``: threads a batch is stepped on (default: every core numba sees); a
       single world always uses one. Results do not depend on it.
+    * ``device``: ``'cpu'`` (the default) or ``'cuda'``: every world of a call stepped by
+      a GPU thread of its own, in one launch of the same kernels (``impulse2d.core.gpu``;
+      needs the ``gpu`` extra and an NVIDIA GPU). The state is copied to the GPU and back
+      at each call, so everything else works as on the CPU.
     """
 
     gravity = property(lambda self: self.settings.gravity, doc="Gravity (m/s^2), shape (2,).")
@@ -180,8 +205,10 @@ class World:
         sleep_speed: float = 0.05,
         damage_speed: float = 1.0,
         threads: int | None = None,
+        device: str = "cpu",
     ) -> None:
         batch = _checks.positive_int("batch_size", batch_size)
+        device = _device(device)
         self.settings = Settings(
             gravity=gravity,
             substeps=substeps,
@@ -204,7 +231,7 @@ class World:
             "springs": [None] * 4,
             "sensors": [None] * 2,
         }
-        self._runner = Runner(1)
+        self._runner = Runner(1, device)
         self.threads = threads
 
     # -- settings -----------------------------------------------------------------------------
@@ -229,6 +256,11 @@ class World:
         if count > most:
             raise ValueError(f"threads must be in [1, {most}] (the cores numba sees), got {count}")
         self._runner.threads = count
+
+    @property
+    def device(self) -> str:
+        """Where the steps run: ``'cpu'`` or ``'cuda'`` (set when the world is made)."""
+        return self._runner.device
 
     @property
     def batch_size(self) -> int:
@@ -523,7 +555,7 @@ class World:
         clone.settings = self.settings.copy()
         clone.state = self.state.repeat(batch)
         clone.layout = self.layout.copy()
-        clone._runner = Runner(self._runner.threads)
+        clone._runner = Runner(self._runner.threads, self._runner.device)
         twins: dict[int, Any] = {}
         clone.objects = {}
         for kind, objects in self.objects.items():

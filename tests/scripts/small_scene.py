@@ -1,6 +1,7 @@
 """A small scene with every shape pair, a spring, a sensor and breakable bodies, stepped
 and its final state written to the file named on the command line (``test_compiled.py``
-runs it compiled and with ``NUMBA_DISABLE_JIT=1`` and compares the two)."""
+runs it compiled and with ``NUMBA_DISABLE_JIT=1`` and compares the two; ``test_gpu.py``
+runs it with ``--device cuda`` in numba's CUDA simulator against the CPU)."""
 
 import sys
 
@@ -9,8 +10,8 @@ import numpy as np
 import impulse2d as p2
 
 
-def build() -> p2.World:
-    world = p2.World(substeps=4, damage_speed=0.5)
+def build(device: str = "cpu") -> p2.World:
+    world = p2.World(substeps=4, damage_speed=0.5, device=device)
     world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0), friction=0.7))
     world.add(p2.Plane(normal=(1.0, 0.0), point=(-3.0, 0.0)))
     for i in range(3):
@@ -30,13 +31,14 @@ def build() -> p2.World:
     return world
 
 
-def main(path: str) -> None:
-    world = build().replicate(3)
+def main(path: str, device: str = "cpu") -> None:
+    world = build(device).replicate(3)
     world.bodies[5].velocity = np.array([[3.0, 0.0], [1.0, 4.0], [-2.0, 1.0]])
     for _ in range(40):
         world.step(1 / 60)
     steps = world.run_until_rest(1 / 60, 30, worlds=[0, 2])
     s = world.state
+    print(world.device, s.contact_capacity, world._runner.pair_capacity)  # where it ran, room made
     np.savez(
         path,
         body=s.body,
@@ -50,4 +52,4 @@ def main(path: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], *sys.argv[3:4] if sys.argv[2:3] == ["--device"] else ())

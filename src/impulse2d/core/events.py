@@ -59,9 +59,11 @@ def forget_contacts(contact, contact_i, world_i, w, slot) -> None:
     for j in range(world_i[w, CONTACT_COUNT]):
         if contact_i[w, j, BODY_A] == slot or contact_i[w, j, BODY_B] == slot:
             continue
-        if m != j:
-            contact[w, m, :] = contact[w, j, :]
-            contact_i[w, m, :] = contact_i[w, j, :]
+        if m != j:  # column by column: a row copied as a slice needs numba's allocator
+            for column in range(contact.shape[2]):
+                contact[w, m, column] = contact[w, j, column]
+            for column in range(contact_i.shape[2]):
+                contact_i[w, m, column] = contact_i[w, j, column]
         m += 1
     contact[w, m : world_i[w, CONTACT_COUNT]] = 0.0  # rows past the count stay zero
     contact_i[w, m : world_i[w, CONTACT_COUNT]] = 0

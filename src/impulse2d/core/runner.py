@@ -73,8 +73,10 @@ def available_threads() -> int:
 class Runner:
     """Steps worlds of one ``WorldState`` in compiled code (see the module docstring)."""
 
-    def __init__(self, threads: int) -> None:
+    def __init__(self, threads: int, device: str = "cpu") -> None:
         self._threads = threads
+        self.device = device
+        self._gpu: Any = None  # (the gpu module, its DeviceScratch) on device "cuda"
         self.workspace: Workspace | None = None
         self.pair_capacity = 16
         self._scratch_key: tuple[int, ...] = ()
@@ -99,7 +101,8 @@ class Runner:
         self._threads, self._fast = count, _NO_FAST_PATH
 
     def __getstate__(self) -> dict:
-        return {**self.__dict__, "_fast": _NO_FAST_PATH}  # the compiled entry point does not pickle
+        # Neither the compiled entry point nor device memory pickles.
+        return {**self.__dict__, "_fast": _NO_FAST_PATH, "_gpu": None}
 
     def step_once(self, state: WorldState, layout: Any, ctx: np.ndarray) -> tuple[np.ndarray, int]:
         """``run(state, layout, ctx, every world, 1, False)``, the call an RL loop makes
@@ -225,6 +228,8 @@ class Runner:
         """One compiled call (in chunks on threads for a batch); ``fresh``: the first of
         a run (the undo rows are filled and the plan's counters zeroed)."""
         undo = self._undo_rows(state) if fresh else self._undo
+        if self.device == "cuda":
+            return self._launch(state, layout, ctx, plan, max_steps, until_rest, undo, fresh)
         rows = plan.shape[0]
         threads = 1 if JIT_DISABLED else min(self.threads, rows)
         chunks = 1 if threads == 1 else min(rows, _CHUNKS_PER_THREAD * threads)
@@ -240,6 +245,31 @@ class Runner:
         self._last_args = None
         _in_chunks(args, chunks, threads)
         return int(plan[:, pipeline.PLAN_STATUS].max())
+
+    def _launch(
+        self,
+        state: WorldState,
+        layout: Any,
+        ctx: np.ndarray,
+        plan: np.ndarray,
+        max_steps: int,
+        until_rest: bool,
+        undo: np.ndarray,
+        fresh: bool,
+    ) -> int:
+        """``_call`` on the GPU (``gpu.launch``): every world a thread, one launch."""
+        if self._gpu is None:
+            from . import gpu  # numba-cuda: only where a world asks for the GPU
+
+            self._gpu = (gpu, gpu.DeviceScratch())
+        gpu, scratch = self._gpu
+        if fresh:
+            plan[:, pipeline.PLAN_WORLD + 1 :] = 0
+        self._last_args = None
+        arrays = tuple(state.arrays().values())
+        return gpu.launch(
+            arrays, layout.rows, ctx, plan, max_steps, until_rest, self.pair_capacity, undo, scratch
+        )
 
     def _scratch(self, rows: int, bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
         """``rows`` scratch rows for worlds of ``bodies`` slots and ``points`` contacts."""

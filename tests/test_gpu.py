@@ -1,0 +1,152 @@
+"""The step on a GPU (``impulse2d.core.gpu``), checked on a machine without one.
+
+numba-cuda compiles the engine's own per-world step for CUDA, so one source serves both
+(``World(device='cuda')``). These checks need no GPU:
+
+* the whole step compiles to PTX for compute capability 9.0 (an H200): the kernel a
+  launch runs, ``advance_worlds``, with ``pipeline.advance_world`` and every stage below
+  it, both for a number of steps and until rest (the shot loop). numba-cuda asks the
+  driver which GPU it compiles a device function for; a stand-in answers (9, 0) here.
+  That compile is the type check: an allocation, a Python object or a numpy call that
+  allocates anywhere in the step is refused there, as a function that allocates is here;
+* numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) runs the launches on the CPU, a
+  Python thread per GPU thread, with the step in plain Python (``NUMBA_DISABLE_JIT=1``:
+  the simulator's arrays are not numpy's, so compiled CPU code cannot take them): a
+  scene of every shape pair, springs, sensors, damage and a kinematic body, a batch
+  whose contact rows grow in a call, and a call refused by the envelope end bitwise
+  where the compiled CPU ends (which equals plain Python: ``test_compiled.py``);
+
+numba-cuda and NVVM come with the ``ptx`` extra (in ``test``); without them these skip.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impulse2d as p2
+from impulse2d.core import pipeline
+
+pytest.importorskip("numba_cuda", reason="numba-cuda (the ptx or gpu extra)")
+from numba import cuda  # numba-cuda's, once it is installed
+
+if cuda.is_available():
+    pytest.skip("checks for a machine without a GPU", allow_module_level=True)
+
+SCRIPTS = Path(__file__).parent / "scripts"
+H200 = (9, 0)
+
+
+@pytest.fixture
+def h200(monkeypatch):
+    """numba-cuda's question to the driver (which GPU?) answered without one; skips
+    where NVVM, the compiler numba-cuda hands its code to, is not installed (the ptx
+    extra brings it for Linux and Windows)."""
+    import numba
+    import numba.cuda.dispatcher as dispatcher
+
+    device = types.SimpleNamespace(compute_capability=H200)
+    monkeypatch.setattr(dispatcher, "get_current_device", lambda: device)
+
+    def empty(x):
+        x[cuda.grid(1)] = 0.0
+
+    try:
+        cuda.compile_ptx(empty, (numba.float64[:],), cc=H200)
+    except Exception as error:  # what a missing NVVM raises differs between releases
+        pytest.skip(f"no NVVM to compile with: {error}")
+
+
+def _launch_arguments(world: p2.World, until_rest: bool) -> tuple:
+    """What ``gpu.launch`` hands ``advance_worlds`` for ``world`` (host arrays: the
+    types are what matters for the compile)."""
+    from impulse2d.core.workspace import row_sizes
+
+    state, runner = world.state, world._runner
+    plan = np.zeros((world.batch_size, pipeline.PLAN_COLUMNS), np.int64)
+    floats, ints = row_sizes(state.body.shape[1], state.contact_capacity, runner.pair_capacity)
+    return (
+        *state.arrays().values(), world.layout.rows, world.settings.step_context(1 / 60), plan,
+        10, until_rest, np.zeros((world.batch_size, floats)),
+        np.zeros((world.batch_size, ints), np.int64), runner.pair_capacity,
+        runner._undo_rows(state),
+    )  # fmt: skip
+
+
+def test_the_whole_step_compiles_to_ptx_for_an_h200(h200):
+    sys.path.insert(0, str(SCRIPTS))
+    try:
+        import small_scene
+    finally:
+        sys.path.remove(str(SCRIPTS))
+    from impulse2d.core import gpu
+
+    world = small_scene.build().replicate(3)
+    text = gpu.ptx(_launch_arguments(world, until_rest=True), H200)
+    assert ".target sm_90" in text
+    entries = [line for line in text.splitlines() if line.startswith(".visible .entry")]
+    assert len(entries) == 1 and "_advance_worlds" in entries[0]
+    assert "NRT_" not in text  # no numba runtime: nothing allocated, nothing counted
+    assert text.count("\n") > 10_000  # the step itself, not an empty shell
+
+
+def test_a_step_that_allocates_is_refused_by_the_compile(h200):
+    """The compile above can fail: a per-world function in the engine's style that makes
+    an array, as numpy code would, is refused when compiled for the GPU."""
+    import numba
+    from numba.core.errors import TypingError
+
+    @numba.njit
+    def per_world(body, w):
+        scratch = np.zeros(body.shape[1])
+        for i in range(body.shape[1]):
+            scratch[i] = body[w, i, 0]
+            body[w, i, 1] += scratch[i]
+
+    def launch(body):
+        w = cuda.grid(1)
+        if w < body.shape[0]:
+            per_world(body, w)
+
+    with pytest.raises(TypingError):
+        cuda.compile_ptx(launch, (numba.typeof(np.zeros((2, 3, 4))),), cc=H200)
+
+
+def _run(script: str, *args: str, simulator: bool) -> subprocess.CompletedProcess:
+    env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_DISABLE_JIT",)}
+    env.pop("NUMBA_ENABLE_CUDASIM", None)
+    if simulator:
+        env.update(NUMBA_ENABLE_CUDASIM="1", NUMBA_DISABLE_JIT="1")
+    done = subprocess.run(
+        [sys.executable, str(SCRIPTS / script), *args],
+        env=env, capture_output=True, text=True, timeout=900,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    return done
+
+
+def test_the_simulated_gpu_steps_every_shape_pair_as_the_cpu(tmp_path):
+    gpu = _run("small_scene.py", str(tmp_path / "gpu.npz"), "--device", "cuda", simulator=True)
+    cpu = _run("small_scene.py", str(tmp_path / "cpu.npz"), simulator=False)
+    assert gpu.stdout.split()[0] == "cuda" and cpu.stdout.split()[0] == "cpu"
+    with np.load(tmp_path / "gpu.npz") as on_gpu, np.load(tmp_path / "cpu.npz") as on_cpu:
+        assert on_gpu.files == on_cpu.files
+        for name in on_cpu.files:
+            assert on_gpu[name].tobytes() == on_cpu[name].tobytes(), name
+        assert on_cpu["world_i"][:, 0].min() > 0 and on_cpu["steps"].min() > 0
+
+
+def test_the_simulated_gpu_makes_room_and_refuses_as_the_cpu():
+    gpu = json.loads(_run("room_and_refusal.py", "cuda", simulator=True).stdout)
+    cpu = json.loads(_run("room_and_refusal.py", "cpu", simulator=False).stdout)
+    assert gpu.pop("device") == "cuda" and cpu.pop("device") == "cpu"
+    assert gpu == cpu
+    assert cpu["grown"][0] > cpu["rows"][0] and cpu["grown"][1] > cpu["rows"][1]
+    assert cpu["refused"] == [1, 2, "speed"] and cpu["unchanged"]
