@@ -65,22 +65,27 @@ def h200(monkeypatch):
 
 
 def _launch_arguments(world: p2.World, until_rest: bool) -> tuple:
-    """What ``gpu.launch`` hands ``advance_worlds`` for ``world`` (host arrays: the
-    types are what matters for the compile)."""
-    from impulse2d.core.workspace import row_sizes
+    """What ``gpu.launch`` hands ``advance_worlds`` for ``world``, on the host with the
+    device's layout (``gpu.world_innermost``): the types are what the compile sees."""
+    from impulse2d.core import gpu
+    from impulse2d.core.workspace import part_shapes
 
     state, runner = world.state, world._runner
-    plan = np.zeros((world.batch_size, pipeline.PLAN_COLUMNS), np.int64)
-    floats, ints = row_sizes(state.body.shape[1], state.contact_capacity, runner.pair_capacity)
+    batch, bodies = state.body.shape[:2]
+    plan = np.zeros((batch, pipeline.PLAN_COLUMNS), np.int64)
+    shapes = part_shapes(bodies, state.contact_capacity, runner.pair_capacity)
+    parts = tuple(np.zeros((batch, *shape), dtype) for shape, dtype in shapes)
+    inner = gpu.world_innermost
     return (
-        *state.arrays().values(), world.layout.rows, world.settings.step_context(1 / 60), plan,
-        10, until_rest, np.zeros((world.batch_size, floats)),
-        np.zeros((world.batch_size, ints), np.int64), runner.pair_capacity,
-        runner._undo_rows(state),
+        *(inner(a) for a in state.arrays().values()), world.layout.rows,
+        world.settings.step_context(1 / 60), inner(plan), 10, until_rest,
+        tuple(inner(part) for part in parts), *(inner(u) for u in runner._undo_rows(state)),
     )  # fmt: skip
 
 
 def test_the_whole_step_compiles_to_ptx_for_an_h200(h200):
+    import numba
+
     sys.path.insert(0, str(SCRIPTS))
     try:
         import small_scene
@@ -89,7 +94,9 @@ def test_the_whole_step_compiles_to_ptx_for_an_h200(h200):
     from impulse2d.core import gpu
 
     world = small_scene.build().replicate(3)
-    text = gpu.ptx(_launch_arguments(world, until_rest=True), H200)
+    args = _launch_arguments(world, until_rest=True)
+    assert numba.typeof(args[0]).layout == "A"  # world innermost: strided, not C order
+    text = gpu.ptx(args, H200)
     assert ".target sm_90" in text
     entries = [line for line in text.splitlines() if line.startswith(".visible .entry")]
     assert len(entries) == 1 and "_advance_worlds" in entries[0]

@@ -98,11 +98,12 @@ def test_save_then_restore_puts_a_world_back_bitwise() -> None:
     assert world.contacts().size > 0
     saved = world.snapshot()
     state = world.state
-    undo = np.full((2, sum(refusal.undo_sizes(state.body.shape[1], state.contact_capacity))), -7.0)
-    refusal.save_world(tuple(state.arrays().values()), world.layout.shapes, undo, 1)
+    floats, ints = refusal.undo_sizes(state.body.shape[1], state.contact_capacity)
+    undo = np.full((2, floats), -7.0), np.full((2, ints), -7, np.int64)
+    refusal.save_world(tuple(state.arrays().values()), world.layout.shapes, *undo, 1)
     world.step(DT, steps=30)
     stepped = np.array([1])
-    refusal.restore(*world.state.arrays().values(), world.layout.rows, undo, stepped)
+    refusal.restore(*world.state.arrays().values(), world.layout.rows, *undo, stepped)
     for name, array in world.state.arrays().items():
         np.testing.assert_array_equal(array[1], saved.state.arrays()[name][1], err_msg=name)
     assert world.state.time[0] == pytest.approx(70 * DT)

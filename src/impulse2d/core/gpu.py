@@ -10,11 +10,21 @@ cannot run (an array allocated, a Python object, an exception, a numpy call that
 allocates); ``tests/test_gpu.py`` compiles the whole step to PTX on a machine without a
 GPU to hold that, and runs it in numba's CUDA simulator against the CPU.
 
-``launch`` makes one call of a ``Runner`` on the GPU: the state is copied to the device,
-every world of the plan steps in one launch, and the state comes back (the world's
-arrays stay on the host between calls, where the facades read and write them; keeping
-them on the device between calls is the next step). The scratch rows live on the device
-only, one per world: a step writes them before it reads them.
+*Layout.* The kernels index ``body[w, i, column]``, world first, and on the CPU a world's
+rows lie together (C order), which suits one thread walking one world. On the GPU the 32
+threads of a warp step 32 worlds in lockstep, and each load they make together is fast
+only if the 32 addresses are neighbours. So every array with a world axis (the state,
+the plan, the undo rows, the scratch) lives on the device with the world axis
+*innermost*: shape ``(B, N, F)`` as the kernels see it, strides ``(8, F B 8, B 8)``, so
+``body[w, i, c]`` and ``body[w + 1, i, c]`` are 8 bytes apart. The kernels are the same;
+numba compiles them once more for these strides (arrays of layout ``A``). The host keeps
+the CPU's layout; ``launch`` transposes on the way in and out.
+
+*Calls.* ``launch`` makes one call of a ``Runner`` on the GPU: the state copied to the
+device, every world of the plan stepped in one launch, the state copied back (the
+world's arrays stay on the host between calls, where the facades read and write them;
+keeping them on the device between calls is the next step). The scratch lives on the
+device only: a step writes it before it reads it.
 
 Imported only when asked for: numba-cuda is the ``gpu`` extra (``ptx`` for compiling
 only, as CI does).
@@ -29,27 +39,34 @@ import numpy as np
 from numba import cuda
 
 from . import pipeline
-from .workspace import row_sizes
+from .workspace import part_shapes, scratch_row
 
 THREADS_PER_BLOCK = 64  # worlds per block; a world's step is long and branchy
 
 
 def _advance_worlds(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs, undo,
+    max_steps, until_rest, parts, undo_floats, undo_ints,
 ) -> None:  # fmt: skip
-    """``pipeline.advance_world`` for plan row ``cuda.grid(1)``, with scratch row of the
-    same index (the arguments are ``pipeline.advance``'s, ``fresh`` left out: the caller
-    zeroes the plan's counters)."""
+    """``pipeline.advance_world`` for plan row ``cuda.grid(1)``, with the scratch row of
+    the same index (the arguments are ``pipeline.advance``'s, ``fresh`` left out: the
+    caller zeroes the plan's counters)."""
     j = cuda.grid(1)
     if j < plan.shape[0]:
         state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
         pipeline.advance_world(
-            state, layout, ctx, plan, j, max_steps, until_rest, floats[j], ints[j], pairs, undo
-        )
+            state, layout, ctx, plan, j, max_steps, until_rest, scratch_row(parts, j),
+            undo_floats, undo_ints,
+        )  # fmt: skip
 
 
 advance_worlds = cuda.jit(_advance_worlds)
+
+
+def world_innermost(array: np.ndarray) -> np.ndarray:
+    """A copy of ``array`` (world axis first) with the world axis innermost in memory,
+    seen with the same shape: the layout ``launch`` gives the device."""
+    return np.moveaxis(np.ascontiguousarray(np.moveaxis(array, 0, -1)), -1, 0)
 
 
 def signature(args: tuple) -> tuple:
@@ -58,48 +75,66 @@ def signature(args: tuple) -> tuple:
 
 
 def ptx(args: tuple, compute_capability: tuple[int, int]) -> str:
-    """The PTX of ``advance_worlds`` for the types of ``args``, for a GPU of
-    ``compute_capability`` (compiling needs numba-cuda and NVVM, not a GPU)."""
+    """The PTX of ``advance_worlds`` for the types of ``args`` (laid out as ``launch``
+    lays them out: ``world_innermost``), for a GPU of ``compute_capability``
+    (compiling needs numba-cuda and NVVM, not a GPU)."""
     text: Any
     text, _ = cuda.compile_ptx(_advance_worlds, signature(args), cc=compute_capability)
     return text
 
 
+def _seen_world_first(stored: Any) -> Any:
+    """The device array ``stored`` (world axis last, contiguous) seen with the world axis
+    first, as the kernels index it, without moving it."""
+    axes = (stored.ndim - 1, *range(stored.ndim - 1))
+    if not hasattr(stored, "gpu_data"):  # the simulator's arrays are numpy's
+        return stored.transpose(axes)
+    from numba.cuda.cudadrv.devicearray import DeviceNDArray
+
+    shape = tuple(stored.shape[a] for a in axes)
+    strides = tuple(stored.strides[a] for a in axes)
+    return DeviceNDArray(
+        shape, strides, stored.dtype, stream=stored.stream, gpu_data=stored.gpu_data
+    )
+
+
 class DeviceScratch:
-    """Scratch rows on the device: one float row and one int row per world of a launch
-    (``workspace.row_sizes``), kept while the sizes fit."""
+    """The scratch parts on the device, world innermost, a row per world of a launch
+    (``workspace.part_shapes``), kept while the sizes fit."""
 
     def __init__(self) -> None:
         self.key: tuple[int, int, int, int] = (0, 0, 0, 0)
-        self.floats: Any = None
-        self.ints: Any = None
+        self.parts: tuple = ()
 
-    def rows(self, worlds: int, bodies: int, points: int, pairs: int) -> tuple[Any, Any]:
-        held = self.key
-        if not (worlds <= held[0] and bodies == held[1] and points <= held[2] and pairs <= held[3]):
-            floats, ints = row_sizes(bodies, points, pairs)
-            self.floats = cuda.device_array((worlds, floats))
-            self.ints = cuda.device_array((worlds, ints), dtype=np.int64)
+    def rows(self, worlds: int, bodies: int, points: int, pairs: int) -> tuple:
+        if self.key != (worlds, bodies, points, pairs):
+            self.parts = tuple(
+                _seen_world_first(cuda.device_array((*shape, worlds), dtype))
+                for shape, dtype in part_shapes(bodies, points, pairs)
+            )
             self.key = (worlds, bodies, points, pairs)
-        return self.floats, self.ints
+        return self.parts
 
 
 def launch(
     arrays: tuple, layout: np.ndarray, ctx: np.ndarray, plan: np.ndarray, max_steps: int,
-    until_rest: bool, pairs: int, undo: np.ndarray, scratch: DeviceScratch,
+    until_rest: bool, pairs: int, undo: tuple, scratch: DeviceScratch,
 ) -> int:  # fmt: skip
     """One ``Runner`` call on the GPU: ``arrays`` (``WorldState``'s eight, in order),
-    ``plan``, ``undo`` copied to the device, every plan row stepped by a thread of its
-    own in one launch, and all of them copied back. Returns the largest status. The
-    caller has zeroed the plan's counters for a fresh call."""
+    ``plan`` and the two ``undo`` arrays copied to the device world innermost, every
+    plan row stepped by a thread of its own in one launch, and all of them copied back.
+    Returns the largest status. The caller has zeroed the plan's counters for a fresh
+    call."""
     body, contact = arrays[0], arrays[4]
-    floats, ints = scratch.rows(plan.shape[0], body.shape[1], contact.shape[1], pairs)
-    on_device = [cuda.to_device(a) for a in (*arrays, plan, undo)]
+    parts = scratch.rows(plan.shape[0], body.shape[1], contact.shape[1], pairs)
+    hosts = (*arrays, plan, *undo)
+    stored = [cuda.to_device(np.ascontiguousarray(np.moveaxis(a, 0, -1))) for a in hosts]
+    seen = [_seen_world_first(d) for d in stored]
     blocks = (plan.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     advance_worlds[blocks, THREADS_PER_BLOCK](
-        *on_device[:8], cuda.to_device(layout), cuda.to_device(ctx), on_device[8], max_steps,
-        until_rest, floats, ints, pairs, on_device[9],
+        *seen[:8], cuda.to_device(layout), cuda.to_device(ctx), seen[8], max_steps, until_rest,
+        parts, seen[9], seen[10],
     )  # fmt: skip
-    for host, device in zip((*arrays, plan, undo), on_device, strict=True):
-        device.copy_to_host(host)
+    for host, device in zip(hosts, stored, strict=True):
+        host[...] = np.moveaxis(device.copy_to_host(), -1, 0)
     return int(plan[:, pipeline.PLAN_STATUS].max())

@@ -214,17 +214,17 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
 
 
 @inline
-def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, ints, pairs, undo):
+def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, scratch, undo_floats,
+                  undo_ints):  # fmt: skip
     """Step the world of plan row ``j`` until it has taken ``max_steps`` steps in this run
-    (or, with ``until_rest``, is at rest), or a step cannot go on. ``pairs`` is the
-    capacity of the scratch rows' pair arrays; ``undo`` the runner's undo rows, which
-    hold the world as it was before its first step in the call."""
-    body, body_i, contact = state[0], state[1], state[4]
+    (or, with ``until_rest``, is at rest), or a step cannot go on. ``scratch`` is its
+    ``Scratch``; ``undo_floats``, ``undo_ints`` the runner's undo rows, which hold the
+    world as it was before its first step in the call."""
+    body, body_i = state[0], state[1]
     w = plan[j, PLAN_WORLD]
-    scratch = views(floats, ints, body.shape[1], contact.shape[1], pairs)
     shapes = layout[: body.shape[1]]
     if plan[j, SAVED] == 0:
-        save_world(state, shapes, undo, w)
+        save_world(state, shapes, undo_floats, undo_ints, w)
         plan[j, SAVED] = 1
     while plan[j, PLAN_STEPS] < max_steps:
         if until_rest and at_rest(body_i, shapes, w):
@@ -239,21 +239,23 @@ def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, floats, in
 @kernel
 def advance(
     body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
-    max_steps, until_rest, floats, ints, pairs, undo, fresh,
+    max_steps, until_rest, floats, ints, pairs, undo_floats, undo_ints, fresh,
 ) -> int:  # fmt: skip
-    """``advance_world`` for every row of the plan, one after the other; returns the
-    largest status (``RUNNING``: every world went as far as asked). ``fresh``: the plan
-    starts here, so its counters are zeroed first (the runner reuses its plan arrays;
-    zeroing them here costs nothing next to a numpy call)."""
+    """``advance_world`` for every row of the plan, one after the other, with scratch row
+    0 (``workspace.views``; ``pairs`` the capacity of its pair arrays); returns the largest status
+    (``RUNNING``: every world went as far as asked). ``fresh``: the plan starts here, so
+    its counters are zeroed first (the runner reuses its plan arrays; zeroing them here
+    costs nothing next to a numpy call)."""
     state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+    scratch = views(floats[0], ints[0], body.shape[1], contact.shape[1], pairs)
     worst = RUNNING
     for j in range(plan.shape[0]):
         if fresh:
             plan[j, PLAN_WORLD + 1 :] = 0
         if plan[j, PLAN_STATUS] == RUNNING:
             advance_world(
-                state, layout, ctx, plan, j, max_steps, until_rest, floats[0], ints[0], pairs,
-                undo,
+                state, layout, ctx, plan, j, max_steps, until_rest, scratch, undo_floats,
+                undo_ints,
             )  # fmt: skip
         worst = max(worst, plan[j, PLAN_STATUS])
         if worst >= UNSTABLE_SPRING:  # the call is refused: the rest need not step

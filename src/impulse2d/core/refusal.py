@@ -25,16 +25,13 @@ the batch, laid out for ``N`` body slots and ``C`` contact rows::
     floats (B, 1 + N * SAVED_BODY_F + C * CONTACT_F): time, body rows, contact rows
     ints   (B, WORLD_I + N * BODY_I + C * CONTACT_I): world_i, body_i rows, contact_i rows
 
-The two share one float64 array, ``undo`` (B, floats + ints), the integers stored in the
-last part by their bits (``view(np.int64)``), so a compiled call takes one more argument,
-not two. A world that stepped has its undo row filled at most once per call. If the call grew the
-contact arrays (a world needed more room), the runner cuts them back to ``C`` rows before
-``restore``.
+Two arrays, ``undo_floats`` and ``undo_ints``, each world's row holding its parts one
+after the other. A world that stepped has its undo rows filled at most once per call. If
+the call grew the contact arrays (a world needed more room), the runner cuts them back to
+``C`` rows before ``restore``.
 """
 
 from __future__ import annotations
-
-import numpy as np
 
 from .. import envelope
 from ._jit import kernel
@@ -75,15 +72,6 @@ def undo_sizes(bodies: int, contacts: int) -> tuple[int, int]:
 
 
 @kernel
-def _parts(undo, bodies: int, w: int):
-    """World ``w``'s undo row cut into its float part and its int part (by the bits)."""
-    row = undo[w]
-    length = row.shape[0] - 1 - WORLD_I - bodies * (SAVED_BODY_F + BODY_I)
-    floats = 1 + bodies * SAVED_BODY_F + length // (CONTACT_F + CONTACT_I) * CONTACT_F
-    return row[:floats], row[floats:].view(np.int64)
-
-
-@kernel
 def _slots_in_use(shapes) -> int:
     """One past the last body slot in use (free slots after it never change)."""
     for i in range(shapes.shape[0] - 1, -1, -1):
@@ -93,11 +81,11 @@ def _slots_in_use(shapes) -> int:
 
 
 @kernel
-def save_world(state, shapes, undo, w) -> None:
+def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Copy what a step of world ``w`` can change into its undo rows. (Scalar loops: on
     rows this short, numba's slice copies cost more than the copying.)"""
     body, body_i, _, _, contact, contact_i, world_i, time = state
-    floats, ints = _parts(undo, body.shape[1], w)
+    floats, ints = undo_floats[w], undo_ints[w]
     floats[0] = time[w]
     at = 1
     for i in range(_slots_in_use(shapes)):
@@ -124,11 +112,11 @@ def save_world(state, shapes, undo, w) -> None:
 
 
 @kernel
-def restore_world(state, shapes, undo, w) -> None:
+def restore_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Put world ``w`` back as ``save_world`` found it (the contact arrays have the
     capacity they had then)."""
     body, body_i, _, _, contact, contact_i, world_i, time = state
-    floats, ints = _parts(undo, body.shape[1], w)
+    floats, ints = undo_floats[w], undo_ints[w]
     time[w] = floats[0]
     at = 1
     for i in range(_slots_in_use(shapes)):
@@ -158,13 +146,13 @@ def restore_world(state, shapes, undo, w) -> None:
 
 
 @kernel
-def restore(body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, undo,
-            worlds) -> None:  # fmt: skip
+def restore(body, body_i, spring, sensor, contact, contact_i, world_i, time, layout,
+            undo_floats, undo_ints, worlds) -> None:  # fmt: skip
     """``restore_world`` for each of ``worlds`` (``layout``: ``Layout.rows``)."""
     state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
     shapes = layout[: body.shape[1]]
     for w in worlds:
-        restore_world(state, shapes, undo, w)
+        restore_world(state, shapes, undo_floats, undo_ints, w)
 
 
 @kernel

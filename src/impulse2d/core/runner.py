@@ -83,7 +83,7 @@ class Runner:
         self._scratch_rows: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 0)), np.zeros((0, 0)))
         self._every = np.zeros(0, np.int64)
         self._every_plan = np.zeros((0, pipeline.PLAN_COLUMNS), np.int64)
-        self._undo = np.zeros((0, 0))
+        self._undo: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 0)), np.zeros((0, 0), np.int64))
         self._undo_for: tuple[np.ndarray | None, np.ndarray | None] = (None, None)
         self._undo_contacts = 0
         self._fast: tuple = _NO_FAST_PATH
@@ -170,7 +170,7 @@ class Runner:
         return status
 
     def _undo_call(
-        self, state: WorldState, layout: Any, plan: np.ndarray, undo: np.ndarray
+        self, state: WorldState, layout: Any, plan: np.ndarray, undo: tuple[np.ndarray, ...]
     ) -> None:
         """Every world the call stepped back as it was, and the contact arrays back to
         the capacity they had (a world may have grown them before one was refused)."""
@@ -179,14 +179,15 @@ class Runner:
             state.contact = state.contact[:, :capacity].copy()
             state.contact_i = state.contact_i[:, :capacity].copy()
         stepped = plan[plan[:, pipeline.SAVED] == 1, pipeline.PLAN_WORLD]
-        refusal.restore(*state.arrays().values(), layout.rows, undo, stepped)
+        refusal.restore(*state.arrays().values(), layout.rows, *undo, stepped)
 
-    def _undo_rows(self, state: WorldState) -> np.ndarray:
+    def _undo_rows(self, state: WorldState) -> tuple[np.ndarray, np.ndarray]:
         """The undo rows for a call on ``state``, kept while its body and contact arrays
         are the same objects (they are replaced when they grow)."""
         if state.body is not self._undo_for[0] or state.contact is not self._undo_for[1]:
             batch, bodies, contacts = *state.body.shape[:2], state.contact_capacity
-            self._undo = np.empty((batch, sum(refusal.undo_sizes(bodies, contacts))))
+            floats, ints = refusal.undo_sizes(bodies, contacts)
+            self._undo = (np.empty((batch, floats)), np.empty((batch, ints), np.int64))
             self._undo_for, self._undo_contacts = (state.body, state.contact), contacts
         return self._undo
 
@@ -237,7 +238,7 @@ class Runner:
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
             state.contact_i, state.world_i, state.time, layout.rows, ctx, plan, max_steps,
-            until_rest, floats, ints, self.pair_capacity, undo, fresh,
+            until_rest, floats, ints, self.pair_capacity, *undo, fresh,
         )  # fmt: skip
         if chunks == 1:
             self._last_args = args
@@ -254,7 +255,7 @@ class Runner:
         plan: np.ndarray,
         max_steps: int,
         until_rest: bool,
-        undo: np.ndarray,
+        undo: tuple[np.ndarray, np.ndarray],
         fresh: bool,
     ) -> int:
         """``_call`` on the GPU (``gpu.launch``): every world a thread, one launch."""
@@ -302,7 +303,7 @@ def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
     """``pipeline.advance(*args)`` with the plan's rows cut into ``chunks`` chunks of
     consecutive rows, each with a scratch row of its own, taken one at a time by
     ``threads`` threads (the caller's and helpers)."""
-    *arrays, plan, max_steps, until_rest, floats, ints, pairs, undo, fresh = args
+    *arrays, plan, max_steps, until_rest, floats, ints, pairs, undo_floats, undo_ints, fresh = args
     rows = plan.shape[0]
     next_chunk = itertools.count()  # each chunk to one thread only (its next is atomic)
 
@@ -313,7 +314,7 @@ def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
             lo, hi = c * rows // chunks, (c + 1) * rows // chunks
             pipeline.advance(
                 *arrays, plan[lo:hi], max_steps, until_rest, floats[c : c + 1],
-                ints[c : c + 1], pairs, undo, fresh,
+                ints[c : c + 1], pairs, undo_floats, undo_ints, fresh,
             )  # fmt: skip
 
     helpers = [_helper_threads(threads - 1).submit(take_chunks) for _ in range(threads - 1)]

@@ -1,9 +1,12 @@
 """Scratch memory for a world's step: per-body step terms, candidate pairs, contact points.
 
-None of this is state: a step writes it before reading it. It lives in two arrays with
-one row per *chunk* of worlds (the worlds one thread steps one after the other), so a
-batch of a thousand worlds needs only a few rows, and ``views`` cuts a row into the
-named 2-D arrays below. Capacities grow when a world needs more (``pipeline.run``).
+None of this is state: a step writes it before reading it. On the CPU it lives in two
+arrays with one row per *chunk* of worlds (the worlds one thread steps one after the
+other), so a batch of a thousand worlds needs only a few rows, and ``views`` cuts a row
+into the named 2-D arrays below (a ``Scratch``): two arrays cost a compiled call less to
+take than ten. The GPU keeps the ten apart, a row per world (``part_shapes``,
+``scratch_row``), each with the world axis innermost, which a reshape could not cut.
+Capacities grow when a world needs more (``runner``).
 
 Body terms ``terms`` (N, TERMS) float64, for the current step:
 
@@ -42,7 +45,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import kernel
+from ._jit import inline, kernel
 
 MOVING, MOVABLE, STEP_INV_MASS, STEP_INV_MOMENT = 0, 1, 2, 3
 ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 4, 5, 6, 7
@@ -143,4 +146,32 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     return Scratch(
         terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
         parents, members,
+    )  # fmt: skip
+
+
+def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
+    """The arrays ``views`` cuts a row into, as separate ``((shape), dtype)`` each: the
+    GPU keeps them apart (``core.gpu``), so each can lie world-innermost."""
+    f8, i8 = np.float64, np.int64
+    return Scratch(
+        terms=((bodies, TERMS), f8),
+        points=((points, POINT_F), f8),
+        merged=((points, MERGED_F), f8),
+        point_ids=((points, 3), i8),
+        merged_ids=((points, 3), i8),
+        pairs=((pairs, 2), i8),
+        sorted_pairs=((pairs, 2), i8),
+        buckets=((bodies + 1,), i8),
+        parents=((bodies,), i8),
+        members=((bodies,), i8),
+    )
+
+
+@inline
+def scratch_row(parts, j):
+    """Row ``j`` of every part (the GPU's scratch, ``part_shapes`` with a world axis in
+    front): one world's ``Scratch``."""
+    return Scratch(
+        parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
+        parts[6][j], parts[7][j], parts[8][j], parts[9][j],
     )  # fmt: skip
