@@ -116,6 +116,7 @@ class PoolGame(ShotGame):
         layout: str | None = None,
         max_shot_seconds: float = 20.0,
         shaping: float = 0.0,
+        device: str = "cpu",
     ) -> None:
         batch_size = check_num_envs(batch_size)
         self.shaping = _checks.number_in("shaping", shaping, 0.0, MAX_SHAPING)
@@ -124,8 +125,10 @@ class PoolGame(ShotGame):
             layout = "rack" if self.num_balls == 15 else "random"
         self.layout = _checks.word("layout", layout, ("rack", "random"))
         max_shot_steps = shot_steps(max_shot_seconds, DT)
-        world, self.balls = self._build(batch_size)
-        template, self._template_balls = self._build(1)
+        world, self.balls = self._build(batch_size, device)
+        template, self._template_balls = self._build(
+            1, "cpu"
+        )  # resets copy its state from the host
         count = self.num_balls + 1
         super().__init__(
             world=world,
@@ -140,10 +143,11 @@ class PoolGame(ShotGame):
         self._potted_before = self.potted.copy()
         self._potential_before = np.zeros(batch_size)
 
-    def _build(self, batch: int) -> tuple[p2.World, list[p2.Circle]]:
+    def _build(self, batch: int, device: str) -> tuple[p2.World, list[p2.Circle]]:
         world = p2.World(
             gravity=(0.0, 0.0),
             batch_size=batch,
+            device=device,
             substeps=2,
             restitution_mixing="min",
             restitution_threshold=0.02,  # m/s: gentle kisses still bounce
@@ -446,7 +450,7 @@ class Pool2DEnv(ShotEnv):
     gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, shaping=0.0,
              render_mode=None)
     gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
-                 threads=None)
+                 threads=None, device="cpu")
     ```
     * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
       pot from anywhere, is the natural first task for learning.
@@ -458,6 +462,8 @@ class Pool2DEnv(ShotEnv):
     * `max_episode_steps` (vector env, None or an int >= 1): shots before truncation.
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
+    * `device`: `"cpu"`, or `"cuda"` to play every table's shot in one GPU launch (the
+      `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
       (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window;
       without a display the env says so once, at the first frame, and plays on without

@@ -75,14 +75,17 @@ class SlingshotGame(ShotGame):
         max_shot_seconds: float = 10.0,
         num_levels: int = 0,
         start_level: int = 0,
+        device: str = "cpu",
     ) -> None:
         batch_size = check_num_envs(batch_size)
         self.level = _checks.word("level", level, ("random", "handmade", *_levels.HANDMADE))
         self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
         self.num_birds = _checks.int_in("num_birds", num_birds, 1, 10)
         max_shot_steps = shot_steps(max_shot_seconds, DT)
-        world, self.bird, self.pigs, self.blocks = self._build(batch_size)
-        template, *self._template_bodies = self._build(1)
+        world, self.bird, self.pigs, self.blocks = self._build(batch_size, device)
+        template, *self._template_bodies = self._build(
+            1, "cpu"
+        )  # resets copy its state from the host
         slots = MAX_PIGS + MAX_BLOCKS
         low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
         super().__init__(
@@ -113,11 +116,17 @@ class SlingshotGame(ShotGame):
         return np.where(self._in_level, self.world.array("health")[:, self._targets], 0.0)
 
     @staticmethod
-    def _build(batch: int) -> tuple[p2.World, p2.Circle, list[p2.Circle], list[p2.Box]]:
+    def _build(
+        batch: int, device: str
+    ) -> tuple[p2.World, p2.Circle, list[p2.Circle], list[p2.Box]]:
         # Impacts closing slower than IMPACT_SPEED do no damage (resting stacks); a body that
         # leaves the arena is gone: a sensor outside which bodies are switched off.
         world = p2.World(
-            gravity=(0.0, -9.81), batch_size=batch, substeps=4, damage_speed=IMPACT_SPEED
+            gravity=(0.0, -9.81),
+            batch_size=batch,
+            substeps=4,
+            damage_speed=IMPACT_SPEED,
+            device=device,
         )
         bird = world.add(
             p2.Circle(
@@ -452,7 +461,7 @@ class Slingshot2DEnv(ShotEnv):
     gym.make("Slingshot2D-v0", level="random", num_birds=3, max_shot_seconds=10.0,
              num_levels=0, start_level=0, render_mode=None)
     gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
-                 threads=None)
+                 threads=None, device="cpu")
     ```
     * `level`: `"random"`, `"handmade"` or a hand-made level's name (see Starting State).
     * `num_birds` (1-10): birds per level.
@@ -465,6 +474,8 @@ class Slingshot2DEnv(ShotEnv):
     * `max_episode_steps` (vector env, None or an int >= 1): launches before truncation.
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
+    * `device`: `"cpu"`, or `"cuda"` to play every world's launch in one GPU launch (the
+      `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
     * `render_mode`: `"rgb_array"` (480x270 frame after the launch), `"rgb_array_list"`
       (frames at 30 per simulated second during the launches), `"human"` (pygame-ce
       window; without a display the env says so once, at the first frame, and plays on

@@ -5,14 +5,17 @@ from __future__ import annotations
 
 import importlib.util
 
+import numpy as np
 import pytest
 
 import impulse2d as p2
 
 
-@pytest.mark.parametrize("device", ["gpu", "CUDA", "cuda:0", None, 0, ["cpu"]])
+@pytest.mark.parametrize(
+    "device", ["gpu", "CUDA", "cuda:0", None, 0, ["cpu"], np.array(["cpu", "cuda"]), b"cpu"]
+)
 def test_device_names_its_rule(device):
-    with pytest.raises(ValueError, match=r"device must be 'cpu' or 'cuda', got"):
+    with pytest.raises(ValueError, match=r"device must be one of 'cpu', 'cuda', got"):
         p2.World(device=device)
 
 
@@ -24,7 +27,7 @@ def test_cuda_where_it_cannot_run_says_why():
 
         if cuda.is_available():
             pytest.skip("this machine has a GPU")
-        reason = "device='cuda' found no usable NVIDIA GPU"
+        reason = "device='cuda' needs an NVIDIA GPU that numba-cuda can use, and found none"
     with pytest.raises(ValueError, match=reason):
         p2.World(device="cuda")
 

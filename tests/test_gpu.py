@@ -9,12 +9,15 @@ numba-cuda compiles the engine's own per-world step for CUDA, so one source serv
   driver which GPU it compiles a device function for; a stand-in answers (9, 0) here.
   That compile is the type check: an allocation, a Python object or a numpy call that
   allocates anywhere in the step is refused there, as a function that allocates is here;
+* the step is compiled with NVVM told not to fuse ``a * b + c`` (the CPU rounds the
+  product first), shown on a kernel whose PTX fuses it otherwise;
 * numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) runs the launches on the CPU, a
   Python thread per GPU thread, with the step in plain Python (``NUMBA_DISABLE_JIT=1``:
   the simulator's arrays are not numpy's, so compiled CPU code cannot take them): a
   scene of every shape pair, springs, sensors, damage and a kinematic body, a batch
-  whose contact rows grow in a call, and a call refused by the envelope end bitwise
-  where the compiled CPU ends (which equals plain Python: ``test_compiled.py``);
+  whose contact rows grow in a call, a call refused by the envelope, and shots of the
+  Pool and Slingshot vector envs end bitwise where the compiled CPU ends (which equals
+  plain Python: ``test_compiled.py``).
 
 numba-cuda and NVVM come with the ``ptx`` extra (in ``test``); without them these skip.
 """
@@ -126,6 +129,26 @@ def test_a_step_that_allocates_is_refused_by_the_compile(h200):
         cuda.compile_ptx(launch, (numba.typeof(np.zeros((2, 3, 4))),), cc=H200)
 
 
+def test_products_are_rounded_before_they_are_added_as_on_the_cpu(h200):
+    """NVVM fuses ``a * b + c`` into one multiply-add unless told not to; the step is
+    compiled with it told (``gpu._without_fma``). (The step's PTX keeps the fused ones
+    inside CUDA's own ``exp``, ``sin`` and ``cos``.)"""
+    import numba
+
+    from impulse2d.core import gpu
+
+    def kernel(a, b, c, out):
+        i = cuda.grid(1)
+        out[i] = a[i] * b[i] + c[i]
+
+    vectors = (numba.float64[:],) * 4
+    fused, _ = cuda.compile_ptx(kernel, vectors, cc=H200)
+    with gpu._without_fma():
+        rounded, _ = cuda.compile_ptx(kernel, vectors, cc=H200)
+    assert "fma.rn.f64" in fused  # NVVM's default: the check below can fail
+    assert "fma." not in rounded and "mul.rn.f64" in rounded
+
+
 def _run(script: str, *args: str, simulator: bool) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_DISABLE_JIT",)}
     env.pop("NUMBA_ENABLE_CUDASIM", None)
@@ -157,3 +180,11 @@ def test_the_simulated_gpu_makes_room_and_refuses_as_the_cpu():
     assert gpu == cpu
     assert cpu["grown"][0] > cpu["rows"][0] and cpu["grown"][1] > cpu["rows"][1]
     assert cpu["refused"] == [1, 2, "speed"] and cpu["unchanged"]
+
+
+def test_the_vector_envs_play_on_the_simulated_gpu_as_on_the_cpu():
+    """``gym.make_vec(..., device="cuda")``: the same observations, rewards and endings
+    for two shots of Pool and of Slingshot (each shot one launch for all envs)."""
+    gpu = _run("env_on_device.py", "cuda", simulator=True).stdout.split()
+    cpu = _run("env_on_device.py", "cpu", simulator=False).stdout.split()
+    assert len(cpu) == 2 and gpu == cpu

@@ -119,8 +119,7 @@ def _setting(name: str, doc: str) -> property:
 def _device(device: Any) -> str:
     """``device`` checked: ``'cpu'``, or ``'cuda'`` where numba-cuda finds a GPU (or runs
     its simulator, ``NUMBA_ENABLE_CUDASIM=1``)."""
-    if device not in ("cpu", "cuda"):
-        raise ValueError(f"device must be 'cpu' or 'cuda', got {device!r}")
+    device = _checks.word("device", device, ("cpu", "cuda"))
     if device == "cuda":
         try:
             import numba_cuda  # noqa: F401  (numba's own numba.cuda is deprecated)
@@ -131,8 +130,8 @@ def _device(device: Any) -> str:
             ) from missing
         if not cuda.is_available():
             raise ValueError(
-                "device='cuda' found no usable NVIDIA GPU (numba.cuda.is_available() is "
-                "False: no GPU, no driver, or a driver too old for numba-cuda)"
+                "device='cuda' needs an NVIDIA GPU that numba-cuda can use, and found none "
+                "(numba.cuda.is_available() is False: no GPU, no driver, or one too old)"
             )
     return device
 

@@ -20,6 +20,14 @@ the plan, the undo rows, the scratch) lives on the device with the world axis
 numba compiles them once more for these strides (arrays of layout ``A``). The host keeps
 the CPU's layout; ``launch`` transposes on the way in and out.
 
+*Rounding.* NVVM fuses ``a * b + c`` into one multiply-add (rounded once) unless told
+``-fma=0``; the CPU rounds the product first, as the kernels are written (numba passes no
+``fastmath``). numba-cuda has no option for it, so while the step compiles
+(``_without_fma``) its calls to NVVM are given ``fma=False``: the PTX has no ``fma``
+(a test counts them). The functions the step takes from the maths library (``sqrt``,
+``sin``, ``cos``, ``exp``) are CUDA's own on the GPU; only ``sqrt`` is rounded exactly
+on both.
+
 *Calls.* ``launch`` makes one call of a ``Runner`` on the GPU: the state copied to the
 device, every world of the plan stepped in one launch, the state copied back (the
 world's arrays stay on the host between calls, where the facades read and write them;
@@ -32,6 +40,8 @@ only, as CI does).
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from typing import Any
 
 import numba
@@ -74,12 +84,34 @@ def signature(args: tuple) -> tuple:
     return tuple(numba.typeof(a) for a in args)
 
 
+@contextlib.contextmanager
+def _without_fma() -> Iterator[None]:
+    """NVVM told ``-fma=0`` for what compiles meanwhile (see *Rounding*): numba-cuda
+    looks ``nvvm.compile_ir`` up on each compile, so it is wrapped for the while."""
+    if numba.config.ENABLE_CUDASIM:  # the simulator compiles nothing
+        yield
+        return
+    from numba.cuda.cudadrv import nvvm
+
+    original = nvvm.compile_ir
+
+    def compile_ir(llvmir: Any, **options: Any) -> Any:
+        return original(llvmir, **{**options, "fma": False})
+
+    nvvm.compile_ir = compile_ir
+    try:
+        yield
+    finally:
+        nvvm.compile_ir = original
+
+
 def ptx(args: tuple, compute_capability: tuple[int, int]) -> str:
     """The PTX of ``advance_worlds`` for the types of ``args`` (laid out as ``launch``
     lays them out: ``world_innermost``), for a GPU of ``compute_capability``
     (compiling needs numba-cuda and NVVM, not a GPU)."""
     text: Any
-    text, _ = cuda.compile_ptx(_advance_worlds, signature(args), cc=compute_capability)
+    with _without_fma():
+        text, _ = cuda.compile_ptx(_advance_worlds, signature(args), cc=compute_capability)
     return text
 
 
@@ -131,10 +163,11 @@ def launch(
     stored = [cuda.to_device(np.ascontiguousarray(np.moveaxis(a, 0, -1))) for a in hosts]
     seen = [_seen_world_first(d) for d in stored]
     blocks = (plan.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-    advance_worlds[blocks, THREADS_PER_BLOCK](
-        *seen[:8], cuda.to_device(layout), cuda.to_device(ctx), seen[8], max_steps, until_rest,
-        parts, seen[9], seen[10],
-    )  # fmt: skip
+    with _without_fma():  # the first launch for these types compiles
+        advance_worlds[blocks, THREADS_PER_BLOCK](
+            *seen[:8], cuda.to_device(layout), cuda.to_device(ctx), seen[8], max_steps,
+            until_rest, parts, seen[9], seen[10],
+        )  # fmt: skip
     for host, device in zip(hosts, stored, strict=True):
         host[...] = np.moveaxis(device.copy_to_host(), -1, 0)
     return int(plan[:, pipeline.PLAN_STATUS].max())
