@@ -27,7 +27,6 @@ import numpy as np
 import impulse2d as p2
 
 try:  # imported as part of the repo (``bench.engine_runs``) ...
-    from bench import pymunk_peer
     from bench.scenes import (
         PoolBreak,
         Pyramid,
@@ -40,7 +39,6 @@ try:  # imported as part of the repo (``bench.engine_runs``) ...
         validate,
     )
 except ImportError:  # ... or run as a script, with bench/ on sys.path
-    import pymunk_peer
     from scenes import (
         PoolBreak,
         Pyramid,
@@ -92,12 +90,13 @@ def _stage(text: str) -> None:
 
 # -- pool break ------------------------------------------------------------------------------
 def _pool_world(
-    scene: PoolBreak, substeps: int, sleeping: bool
+    scene: PoolBreak, substeps: int, sleeping: bool, device: str = "cpu"
 ) -> tuple[p2.World, list[int], list[int]]:
-    """One impulse2d world of the pool break; returns it and the ``bodies`` indices of the
-    balls (scene order) and of the cushions."""
+    """One impulse2d world of the pool break (stepped on ``device``); returns it and the
+    ``bodies`` indices of the balls (scene order) and of the cushions."""
     world = p2.World(
         gravity=scene.gravity,
+        device=device,
         substeps=substeps,
         restitution_mixing="min",  # balls 0.95, cushions 0.75: ball-ball 0.95, ball-cushion 0.75
         friction_mixing="sqrt",
@@ -152,15 +151,17 @@ def pool_batch_world(
     substeps: int = POOL_SUBSTEPS,
     sleeping: bool = True,
     cue_y_offsets: np.ndarray | None = None,
+    device: str = "cpu",
 ) -> tuple[p2.World, list[int]]:
     """The pool break in ``n_worlds`` worlds (one world, or a ``replicate``d batch) and the
     ``bodies`` indices of its balls. With ``cue_y_offsets`` (``n_worlds`` values, m; see
     :func:`scenes.pool_cue_offsets`) every world plays its own shot: the cue ball's
     per-world start ``(x, cue_y_offsets[i])`` is set with the batch setter
-    ``batch.bodies[cue].position = positions`` (shape (n_worlds, 2))."""
+    ``batch.bodies[cue].position = positions`` (shape (n_worlds, 2)). ``device``: where the
+    batch steps (``World(device=...)``)."""
     scene = pool_break()
     validate(scene)
-    world, balls, _ = _pool_world(scene, substeps, sleeping)
+    world, balls, _ = _pool_world(scene, substeps, sleeping, device)
     if n_worlds > 1:
         world = world.replicate(n_worlds)
     if cue_y_offsets is not None:
@@ -346,6 +347,10 @@ def _kinetic(mass: float, velocities: np.ndarray) -> float:
 def pool_energy_pymunk(steps: int = 1200) -> tuple[float, int]:
     """The same energy check as :func:`pool_check_impulse2d` on an untimed pymunk replay:
     the largest ``KE(t) / (KE0 exp(-2 drag t))`` and the step where it occurred."""
+    try:  # pymunk only here: the rest of this module runs without it (bench_gpu.py)
+        from bench import pymunk_peer
+    except ImportError:
+        import pymunk_peer
     scene = pool_break()
     space, balls = pymunk_peer._pool_space(scene)
     ke0 = _kinetic(scene.ball_mass, scene.velocities)

@@ -188,3 +188,22 @@ def test_the_vector_envs_play_on_the_simulated_gpu_as_on_the_cpu():
     gpu = _run("env_on_device.py", "cuda", simulator=True).stdout.split()
     cpu = _run("env_on_device.py", "cpu", simulator=False).stdout.split()
     assert len(cpu) == 2 and gpu == cpu
+
+
+def test_the_gpu_benchmark_runs_every_section_in_the_simulator():
+    """``bench/bench_gpu.py`` is the one script the lent GPU machine runs; ``--smoke``
+    runs each of its sections at a few worlds in the simulator, so it does not rot
+    between the days a GPU is lent (its timings mean nothing here)."""
+    bench = Path(__file__).parents[1] / "bench" / "bench_gpu.py"
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_DISABLE_JIT"}
+    env.update(NUMBA_ENABLE_CUDASIM="1", NUMBA_DISABLE_JIT="1")
+    done = subprocess.run(
+        [sys.executable, str(bench), "--smoke"], env=env, capture_output=True, text=True,
+        timeout=900,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    out = done.stdout
+    for section in ("first launch", "pool break", "agreement", "Pool2D-v0", "Jax2D"):
+        assert section in out, out
+    agreement = out.split("agreement")[1].splitlines()[3].split()
+    assert agreement[-1] == "3/3" and agreement[2] == agreement[3] == "0"

@@ -1,0 +1,162 @@
+"""Broadphase: the pairs of one world worth a narrowphase test, by sort and sweep.
+
+Each body gets a box: its axis-aligned bounding box grown on every side by how far it can
+travel this step (``(|vx| + |vy| + R |w|) dt``) and by half its speculative distance, so
+two boxes overlap whenever the narrowphase could make a contact. The boxes are sorted by
+their left edge and swept: a body is tested only against those whose left edge lies
+before its right edge, so the cost is ``O(n + pairs)`` rather than ``O(n^2)``. The sorted
+order is kept from step to step (``state.SAP_ORDER``) and re-sorted by insertion, which
+costs ``O(n)`` when little has changed: bodies move a little per step.
+
+A pair is a candidate if the boxes overlap, at least one body moves this step and at least
+one is dynamic. Planes are infinite and not in the sweep: every moving dynamic body is
+paired with every plane of its world (there are few).
+
+The pairs come out in a canonical order, by the slot of A and then of B, where a pair is
+ordered so that ``kind(A) <= kind(B)`` (a slot before a higher one of the same kind). The
+sweep's own order depends on history; the canonical one does not, so the solver meets
+contacts in the same order however the world got to where it is (restored, alone or in a
+batch). The counting sort that produces it costs ``O(n + pairs)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import context
+from ._jit import inline, kernel
+from .state import DYNAMIC, ENABLED, PLANE, RESTITUTION, SAP_ORDER
+from .workspace import BOTTOM, LEFT, MOVABLE, MOVING, PUSHED, REACH, RIGHT, TOP
+
+
+@kernel
+def sort_by_left_edge(order, terms) -> None:
+    """Insertion sort of a permutation of the slots by their boxes' left edges."""
+    for p in range(1, order.size):
+        slot = order[p]
+        key = terms[slot, LEFT]
+        q = p - 1
+        while q >= 0 and terms[order[q], LEFT] > key:
+            order[q + 1] = order[q]
+            q -= 1
+        order[q + 1] = slot
+
+
+@inline
+def add_pair(pairs, count, a, b, shapes) -> int:
+    """Append the pair ordered so that kind(A) <= kind(B); returns the new count (which
+    may pass the capacity: then only the count is kept, and the step asks for room)."""
+    ka, kb = shapes[a, 0], shapes[b, 0]
+    if kb < ka or (kb == ka and b < a):
+        a, b = b, a
+    if count < pairs.shape[0]:
+        pairs[count, 0] = a
+        pairs[count, 1] = b
+    return count + 1
+
+
+@kernel
+def sweep(body_i, shapes, w, terms, pairs) -> int:
+    """Sort and sweep the world's circles and boxes; returns the number of pairs.
+
+    Two boxes overlap when ``left_a < right_b``, ``left_b < right_a`` and the same on y.
+    Sorted by left edge, ``left_a <= left_b``, so the first holds and the sweep stops at the
+    first ``left_b >= right_a``. The test is symmetric in a and b, so the pairs found do not
+    depend on the order the sweep remembered."""
+    order = body_i[w, :, SAP_ORDER]
+    sort_by_left_edge(order, terms)
+    count = 0
+    n = order.size
+    for p in range(n):
+        a = order[p]
+        if terms[a, LEFT] == np.inf:
+            break  # the rest are not in the broadphase
+        right, bottom, top = terms[a, RIGHT], terms[a, BOTTOM], terms[a, TOP]
+        moving_a, dynamic_a = terms[a, MOVING] == 1.0, shapes[a, 1] == DYNAMIC
+        for q in range(p + 1, n):
+            b = order[q]
+            if terms[b, LEFT] >= right:
+                break
+            if terms[b, BOTTOM] >= top or bottom >= terms[b, TOP]:
+                continue
+            if not (moving_a or terms[b, MOVING] == 1.0):
+                continue
+            if dynamic_a or shapes[b, 1] == DYNAMIC:
+                count = add_pair(pairs, count, a, b, shapes)
+    return count
+
+
+@kernel
+def plane_pairs(body_i, shapes, w, terms, pairs, count) -> int:
+    """Every moving dynamic body with every plane of the world."""
+    for p in range(shapes.shape[0]):
+        if shapes[p, 0] != PLANE or body_i[w, p, ENABLED] == 0:
+            continue
+        for i in range(shapes.shape[0]):
+            if terms[i, MOVABLE] == 1.0 and shapes[i, 0] != PLANE:
+                count = add_pair(pairs, count, i, p, shapes)
+    return count
+
+
+@kernel
+def canonical_order(pairs, count, scratch, buckets) -> None:
+    """Sort the first ``count`` pairs by (A, B): counting sort by A, then insertion sort
+    of each A's (few) partners by B."""
+    n = buckets.size - 1
+    buckets[:] = 0
+    for k in range(count):
+        buckets[pairs[k, 0] + 1] += 1
+    for i in range(n):
+        buckets[i + 1] += buckets[i]
+    for k in range(count):
+        a = pairs[k, 0]
+        at = buckets[a]
+        scratch[at, 0], scratch[at, 1] = a, pairs[k, 1]
+        buckets[a] = at + 1
+    start = 0
+    for a in range(n):
+        end = buckets[a]  # after the placing pass: where A's run ends
+        for p in range(start + 1, end):
+            partner = scratch[p, 1]
+            q = p - 1
+            while q >= start and scratch[q, 1] > partner:
+                scratch[q + 1, 1] = scratch[q, 1]
+                q -= 1
+            scratch[q + 1, 1] = partner
+        start = end
+    for k in range(count):
+        pairs[k, 0], pairs[k, 1] = scratch[k, 0], scratch[k, 1]
+
+
+@kernel
+def pushed_reach(body, shapes, w, ctx, terms, pairs, count) -> None:
+    """Each body's ``PUSHED``: how fast it may go within the step, counting the bodies it
+    may touch. A body struck by another can leave at up to ``(1 + e)`` times their
+    closing speed (``e`` the larger restitution, or their product if that is larger:
+    no mixing rule gives more), and an overlap pushes it out at up to the push speed;
+    a body near nothing keeps its own ``REACH``.
+    A plane's contacts with a body are made from this: a light body struck towards a
+    plane by a fast one must find the plane there (planes are infinite, so a far
+    speculative point costs one point and stops nothing it should not)."""
+    push = ctx[context.PUSH_SPEED]
+    for i in range(shapes.shape[0]):
+        terms[i, PUSHED] = terms[i, REACH] if terms[i, MOVABLE] == 1.0 else 0.0
+    for k in range(min(count, pairs.shape[0])):
+        a, b = pairs[k, 0], pairs[k, 1]
+        ea, eb = body[w, a, RESTITUTION], body[w, b, RESTITUTION]
+        closing = (1.0 + max(ea, eb, ea * eb)) * (terms[a, REACH] + terms[b, REACH])
+        for i in (a, b):
+            if terms[i, MOVABLE] == 1.0:
+                terms[i, PUSHED] = max(terms[i, PUSHED], terms[i, REACH] + push + closing)
+
+
+@kernel
+def find_pairs(body, body_i, shapes, w, ctx, terms, pairs, scratch, buckets) -> int:
+    """The candidate pairs of world ``w`` in canonical order; returns their number (more
+    than ``pairs`` holds means the step needs more room)."""
+    count = sweep(body_i, shapes, w, terms, pairs)
+    pushed_reach(body, shapes, w, ctx, terms, pairs, count)
+    count = plane_pairs(body_i, shapes, w, terms, pairs, count)
+    if count <= pairs.shape[0]:
+        canonical_order(pairs, count, scratch, buckets)
+    return count

@@ -1,0 +1,177 @@
+"""Scratch memory for a world's step: per-body step terms, candidate pairs, contact points.
+
+None of this is state: a step writes it before reading it. On the CPU it lives in two
+arrays with one row per *chunk* of worlds (the worlds one thread steps one after the
+other), so a batch of a thousand worlds needs only a few rows, and ``views`` cuts a row
+into the named 2-D arrays below (a ``Scratch``): two arrays cost a compiled call less to
+take than ten. The GPU keeps the ten apart, a row per world (``part_shapes``,
+``scratch_row``), each with the world axis innermost, which a reshape could not cut.
+Capacities grow when a world needs more (``runner``).
+
+Body terms ``terms`` (N, TERMS) float64, for the current step:
+
+* ``MOVING`` 1.0 if the body moves this step (awake and enabled), ``MOVABLE`` 1.0 if it is
+  also dynamic (pushed by contacts and forces);
+* ``STEP_INV_MASS``, ``STEP_INV_MOMENT``: the inverse mass and moment if movable, else 0;
+* ``ACCEL_X``, ``ACCEL_Y``, ``ACCEL_W``: ``h`` times the acceleration from gravity and the
+  applied force and torque;
+* ``ROLL_H``: ``h`` times the rolling resistance;
+* ``SPEED``: a bound on the speed of any point of the body, ``|vx| + |vy| + R |w|`` (m/s),
+  what sleeping compares; ``REACH``: that plus what gravity, forces and springs can add
+  within the step, what the contacts are made from; ``PUSHED``: that plus what the bodies
+  it may touch this step can give it, what its contacts with planes are made from;
+* ``HALF_SPEC``: half the body's speculative distance;
+* ``X0``, ``Y0``, ``ANGLE0``: its pose at the start of the step;
+* ``LEFT``, ``RIGHT``, ``BOTTOM``, ``TOP``: its broadphase box, the shape's axis-aligned
+  box grown by how far it can travel and half its speculative distance (``LEFT`` +inf
+  when it is not in the broadphase).
+
+Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
+feature), one row per contact point of the step, sorted by (A, B, feature):
+
+* from the narrowphase: the unit normal ``NX``, ``NY`` (from A to B), the anchors
+  ``RAX``, ``RAY``, ``RBX``, ``RBY`` (offsets of the point from A's and B's centres) and
+  ``SEP0``, the separation along the normal (m, < 0: overlap);
+* from the contact preparation (``contacts.py``): effective masses, mixed materials,
+  softness, the approach speed and acceleration along the normal, the Jacobian's cross
+  terms ``rA x n`` ... and the step inverse masses;
+* from the solver: accumulated impulses, the impulse over the step, the largest
+  increment and the restitution target.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ._jit import inline, kernel
+
+MOVING, MOVABLE, STEP_INV_MASS, STEP_INV_MOMENT = 0, 1, 2, 3
+ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 4, 5, 6, 7
+SPEED, HALF_SPEC = 8, 9
+X0, Y0, ANGLE0 = 10, 11, 12
+LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
+REACH = 17  # SPEED plus what gravity, forces and springs can add within the step (m/s)
+PUSHED = 18  # REACH plus what the bodies it may touch can add (m/s): its planes' margin
+TERMS = 19
+
+# The columns a solver sweep reads come first, so a point's hot data spans three cache
+# lines, not four.
+NX, NY, SEP0 = 0, 1, 2  # normal (A to B) and separation at the step start (m)
+RNA, RNB, RTA, RTB = 3, 4, 5, 6  # rA x n, rB x n, rA x t, rB x t
+IMA, IMB, IIA, IIB = 7, 8, 9, 10  # step inverse masses and moments of A and B
+NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION = 11, 12, 13
+BIAS_RATE, MASS_SCALE, IMPULSE_SCALE = 14, 15, 16  # the soft constraint
+NORMAL_J, TANGENT_J = 17, 18  # accumulated impulses (N s)
+STEP_J, MAX_J = 19, 20  # impulse over the step; largest solver increment (did it push?)
+RAX, RAY, RBX, RBY = 21, 22, 23, 24  # anchors: offsets of the point from A's and B's centres
+MIXED_RESTITUTION = 25
+APPROACH_SPEED, NORMAL_ACCEL = 26, 27  # normal velocity and acceleration at the step start
+SHARED = 28  # 1.0 if the point's pair has another point
+TARGET = 29  # restitution: minus the normal velocity to reach
+BOUNCE = 30  # restitution: 1.0 if the point bounces
+KEEP = 31  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
+AGAINST_PLANE = 32  # 1.0 if B is a plane (solved last, see solver.sweep)
+GROSS_J = 33  # sum of |normal| + |tangent| of every push over the step (N s)
+DRIFT = 34  # a point that keeps its anchors: the farthest they moved apart this step (m)
+POINT_F = 35
+MERGED_F = 11  # = state.CONTACT_F: the contact cache being written
+
+
+def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
+    """Lengths of one float row and one int row."""
+    floats = bodies * TERMS + points * POINT_F + points * MERGED_F
+    ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies
+    return floats, ints
+
+
+class Workspace:
+    """Scratch rows for ``rows`` chunks of worlds (see the module docstring)."""
+
+    def __init__(self, rows: int, bodies: int, points: int, pairs: int) -> None:
+        self.rows, self.bodies, self.points, self.pairs = rows, bodies, points, pairs
+        floats, ints = row_sizes(bodies, points, pairs)
+        self.floats = np.zeros((rows, floats))
+        self.ints = np.zeros((rows, ints), np.int64)
+
+    def fits(self, rows: int, bodies: int, points: int, pairs: int) -> bool:
+        return (
+            rows <= self.rows
+            and bodies == self.bodies
+            and points <= self.points
+            and pairs <= self.pairs
+        )
+
+
+class Scratch(NamedTuple):
+    """One scratch row cut into its named arrays (``views``); numba passes it as a
+    tuple, so a kernel reads ``scratch.points`` and nothing is copied."""
+
+    terms: np.ndarray  # (N, TERMS) per-body step terms
+    points: np.ndarray  # (C, POINT_F) this step's contact points
+    merged: np.ndarray  # (C, MERGED_F) the contact cache being written
+    point_ids: np.ndarray  # (C, 3) body A, body B, feature of each point
+    merged_ids: np.ndarray  # (C, 3) the same for the cache being written
+    pairs: np.ndarray  # (P, 2) candidate pairs from the broadphase
+    sorted_pairs: np.ndarray  # (P, 2) room to sort them
+    buckets: np.ndarray  # (N + 1,) the pairs' counting sort by first body
+    parents: np.ndarray  # (N,) islands: union-find parents (sleep)
+    members: np.ndarray  # (N,) islands: members in order (sleep)
+
+
+@kernel
+def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs: int):
+    """Cut one scratch row into its arrays (``Scratch``)."""
+    at = 0
+    terms = floats[at : at + bodies * TERMS].reshape(bodies, TERMS)
+    at += bodies * TERMS
+    point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
+    at += points * POINT_F
+    merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
+    at = 0
+    pair_rows = ints[at : at + 2 * pairs].reshape(pairs, 2)
+    at += 2 * pairs
+    sorted_pairs = ints[at : at + 2 * pairs].reshape(pairs, 2)
+    at += 2 * pairs
+    buckets = ints[at : at + bodies + 1]
+    at += bodies + 1
+    point_ids = ints[at : at + 3 * points].reshape(points, 3)
+    at += 3 * points
+    merged_ids = ints[at : at + 3 * points].reshape(points, 3)
+    at += 3 * points
+    parents = ints[at : at + bodies]
+    at += bodies
+    members = ints[at : at + bodies]
+    return Scratch(
+        terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
+        parents, members,
+    )  # fmt: skip
+
+
+def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
+    """The arrays ``views`` cuts a row into, as separate ``((shape), dtype)`` each: the
+    GPU keeps them apart (``core.gpu``), so each can lie world-innermost."""
+    f8, i8 = np.float64, np.int64
+    return Scratch(
+        terms=((bodies, TERMS), f8),
+        points=((points, POINT_F), f8),
+        merged=((points, MERGED_F), f8),
+        point_ids=((points, 3), i8),
+        merged_ids=((points, 3), i8),
+        pairs=((pairs, 2), i8),
+        sorted_pairs=((pairs, 2), i8),
+        buckets=((bodies + 1,), i8),
+        parents=((bodies,), i8),
+        members=((bodies,), i8),
+    )
+
+
+@inline
+def scratch_row(parts, j):
+    """Row ``j`` of every part (the GPU's scratch, ``part_shapes`` with a world axis in
+    front): one world's ``Scratch``."""
+    return Scratch(
+        parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
+        parts[6][j], parts[7][j], parts[8][j], parts[9][j],
+    )  # fmt: skip
