@@ -107,6 +107,38 @@ def test_the_whole_step_compiles_to_ptx_for_an_h200(h200):
     assert text.count("\n") > 10_000  # the step itself, not an empty shell
 
 
+_TURN = """
+import numpy as np
+from numba import cuda
+from impulse2d.core import gpu
+rows = np.arange(5 * 7, dtype=np.float64).reshape(5, 7)
+columns = cuda.device_array((7, 5))
+gpu._rows_to_columns[(1, 1), (32, 2)](cuda.to_device(rows), columns)  # 4 passes of 2
+back = cuda.to_device(np.zeros((5, 7)))
+gpu._columns_to_rows[(1, 1), (32, 2)](columns, back)
+print(np.array_equal(columns.copy_to_host(), rows.T), np.array_equal(back.copy_to_host(), rows))
+"""
+
+
+def test_the_kernels_that_turn_arrays_world_innermost_and_back(h200):
+    """On a GPU each array crosses as stored and is turned on the device: the two
+    kernels compile for an H200 and, in the simulator, turn a (5, 7) array both ways
+    with a grid smaller than it (each thread loops)."""
+    import numba
+
+    from impulse2d.core import gpu
+
+    for kernel in (gpu._rows_to_columns, gpu._columns_to_rows):
+        text, _ = cuda.compile_ptx(kernel.py_func, (numba.float64[:, ::1],) * 2, cc=H200)
+        assert ".target sm_90" in text
+    env = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1", "NUMBA_DISABLE_JIT": "1"}
+    done = subprocess.run(
+        [sys.executable, "-c", _TURN], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["True", "True"]
+
+
 def test_a_step_that_allocates_is_refused_by_the_compile(h200):
     """The compile above can fail: a per-world function in the engine's style that makes
     an array, as numpy code would, is refused when compiled for the GPU."""

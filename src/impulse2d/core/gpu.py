@@ -130,6 +130,64 @@ def _seen_world_first(stored: Any) -> Any:
     )
 
 
+_TILE = (32, 8)  # threads of a transposing block: 32 worlds (a warp) by 8 values
+_MOST_BLOCKS_Y = 65535  # CUDA's limit on a grid's second dimension
+
+
+@cuda.jit
+def _rows_to_columns(rows, columns):
+    """``columns[m, w] = rows[w, m]``: a world's values, one row each, turned into one
+    column each (threads along ``w`` write neighbouring addresses)."""
+    w, first = cuda.grid(2)
+    if w < rows.shape[0]:
+        for m in range(first, rows.shape[1], cuda.gridDim.y * cuda.blockDim.y):
+            columns[m, w] = rows[w, m]
+
+
+@cuda.jit
+def _columns_to_rows(columns, rows):
+    """The way back: ``rows[w, m] = columns[m, w]``."""
+    w, first = cuda.grid(2)
+    if w < rows.shape[0]:
+        for m in range(first, rows.shape[1], cuda.gridDim.y * cuda.blockDim.y):
+            rows[w, m] = columns[m, w]
+
+
+def _grid(worlds: int, values: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    blocks_y = min(max(1, -(-values // _TILE[1])), _MOST_BLOCKS_Y)
+    return (-(-worlds // _TILE[0]), blocks_y), _TILE
+
+
+class _OnDevice:
+    """A host array (world axis first, C order) copied to the device and turned world
+    innermost there (``seen``); ``back`` brings it home in place. The turn is a kernel
+    of its own, both ways: the host copies as it stores, in one piece, and the GPU moves
+    the values (a transpose on the host would pass over every byte once more, slowly).
+    The simulator turns it with numpy (its kernels run a Python thread per GPU thread)."""
+
+    def __init__(self, host: np.ndarray) -> None:
+        if not host.flags.c_contiguous:  # a reshape would copy, and ``back`` fill the copy
+            raise RuntimeError(f"state arrays are C-contiguous; got strides {host.strides}")
+        self.host = host
+        self.flat = host.reshape(host.shape[0], -1)
+        if numba.config.ENABLE_CUDASIM:
+            self.columns = cuda.to_device(np.ascontiguousarray(self.flat.T))
+        else:
+            self.rows = cuda.to_device(self.flat)
+            self.columns = cuda.device_array(self.flat.shape[::-1], host.dtype)
+            blocks, threads = _grid(*self.flat.shape)
+            _rows_to_columns[blocks, threads](self.rows, self.columns)
+        self.seen = _seen_world_first(self.columns.reshape(*host.shape[1:], host.shape[0]))
+
+    def back(self) -> None:
+        if numba.config.ENABLE_CUDASIM:
+            self.flat[...] = self.columns.copy_to_host().T
+            return
+        blocks, threads = _grid(*self.flat.shape)
+        _columns_to_rows[blocks, threads](self.columns, self.rows)
+        self.rows.copy_to_host(self.flat)
+
+
 class DeviceScratch:
     """The scratch parts on the device, world innermost, a row per world of a launch
     (``workspace.part_shapes``), kept while the sizes fit."""
@@ -159,15 +217,14 @@ def launch(
     call."""
     body, contact = arrays[0], arrays[4]
     parts = scratch.rows(plan.shape[0], body.shape[1], contact.shape[1], pairs)
-    hosts = (*arrays, plan, *undo)
-    stored = [cuda.to_device(np.ascontiguousarray(np.moveaxis(a, 0, -1))) for a in hosts]
-    seen = [_seen_world_first(d) for d in stored]
+    moved = [_OnDevice(a) for a in (*arrays, plan, *undo)]
+    seen = [m.seen for m in moved]
     blocks = (plan.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     with _without_fma():  # the first launch for these types compiles
         advance_worlds[blocks, THREADS_PER_BLOCK](
             *seen[:8], cuda.to_device(layout), cuda.to_device(ctx), seen[8], max_steps,
             until_rest, parts, seen[9], seen[10],
         )  # fmt: skip
-    for host, device in zip(hosts, stored, strict=True):
-        host[...] = np.moveaxis(device.copy_to_host(), -1, 0)
+    for m in moved:
+        m.back()
     return int(plan[:, pipeline.PLAN_STATUS].max())
