@@ -158,34 +158,50 @@ def _grid(worlds: int, values: int) -> tuple[tuple[int, int], tuple[int, int]]:
     return (-(-worlds // _TILE[0]), blocks_y), _TILE
 
 
+class DeviceBuffers:
+    """Device memory for the arrays a call moves, two buffers each (as stored, and
+    turned), kept from call to call while their shapes hold: allocating gigabytes on
+    every call costs time, and numba-cuda frees the old ones only later."""
+
+    def __init__(self) -> None:
+        self.held: dict[int, tuple] = {}
+
+    def pair(self, slot: int, shape: tuple[int, int], dtype: Any) -> tuple[Any, Any]:
+        key = (shape, np.dtype(dtype))
+        if slot not in self.held or self.held[slot][0] != key:
+            self.held[slot] = (
+                key, cuda.device_array(shape, dtype), cuda.device_array(shape[::-1], dtype)
+            )  # fmt: skip
+        return self.held[slot][1], self.held[slot][2]
+
+
 class _OnDevice:
     """A host array (world axis first, C order) copied to the device and turned world
     innermost there (``seen``); ``back`` brings it home in place. The turn is a kernel
     of its own, both ways: the host copies as it stores, in one piece, and the GPU moves
     the values (a transpose on the host would pass over every byte once more, slowly).
-    The simulator turns it with numpy (its kernels run a Python thread per GPU thread)."""
+    In the simulator, whose kernels run a Python thread per GPU thread, numpy turns it
+    and everything else is the same."""
 
-    def __init__(self, host: np.ndarray) -> None:
+    def __init__(self, host: np.ndarray, buffers: DeviceBuffers, slot: int) -> None:
         if not host.flags.c_contiguous:  # a reshape would copy, and ``back`` fill the copy
             raise RuntimeError(f"state arrays are C-contiguous; got strides {host.strides}")
-        self.host = host
         self.flat = host.reshape(host.shape[0], -1)
-        if numba.config.ENABLE_CUDASIM:
-            self.columns = cuda.to_device(np.ascontiguousarray(self.flat.T))
-        else:
-            self.rows = cuda.to_device(self.flat)
-            self.columns = cuda.device_array(self.flat.shape[::-1], host.dtype)
-            blocks, threads = _grid(*self.flat.shape)
-            _rows_to_columns[blocks, threads](self.rows, self.columns)
+        self.rows, self.columns = buffers.pair(slot, self.flat.shape, host.dtype)
+        self.rows.copy_to_device(self.flat)
+        self._turn(_rows_to_columns, self.rows, self.columns)
         self.seen = _seen_world_first(self.columns.reshape(*host.shape[1:], host.shape[0]))
 
     def back(self) -> None:
+        self._turn(_columns_to_rows, self.columns, self.rows)
+        self.rows.copy_to_host(self.flat)
+
+    def _turn(self, kernel: Any, source: Any, target: Any) -> None:
         if numba.config.ENABLE_CUDASIM:
-            self.flat[...] = self.columns.copy_to_host().T
+            target.copy_to_device(np.ascontiguousarray(source.copy_to_host().T))
             return
         blocks, threads = _grid(*self.flat.shape)
-        _columns_to_rows[blocks, threads](self.columns, self.rows)
-        self.rows.copy_to_host(self.flat)
+        kernel[blocks, threads](source, target)
 
 
 class DeviceScratch:
@@ -208,7 +224,7 @@ class DeviceScratch:
 
 def launch(
     arrays: tuple, layout: np.ndarray, ctx: np.ndarray, plan: np.ndarray, max_steps: int,
-    until_rest: bool, pairs: int, undo: tuple, scratch: DeviceScratch,
+    until_rest: bool, pairs: int, undo: tuple, scratch: DeviceScratch, buffers: DeviceBuffers,
 ) -> int:  # fmt: skip
     """One ``Runner`` call on the GPU: ``arrays`` (``WorldState``'s eight, in order),
     ``plan`` and the two ``undo`` arrays copied to the device world innermost, every
@@ -217,7 +233,7 @@ def launch(
     call."""
     body, contact = arrays[0], arrays[4]
     parts = scratch.rows(plan.shape[0], body.shape[1], contact.shape[1], pairs)
-    moved = [_OnDevice(a) for a in (*arrays, plan, *undo)]
+    moved = [_OnDevice(a, buffers, slot) for slot, a in enumerate((*arrays, plan, *undo))]
     seen = [m.seen for m in moved]
     blocks = (plan.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     with _without_fma():  # the first launch for these types compiles

@@ -262,15 +262,16 @@ class Runner:
         if self._gpu is None:
             from . import gpu  # numba-cuda: only where a world asks for the GPU
 
-            self._gpu = (gpu, gpu.DeviceScratch())
-        gpu, scratch = self._gpu
+            self._gpu = (gpu, gpu.DeviceScratch(), gpu.DeviceBuffers())
+        gpu, scratch, buffers = self._gpu
         if fresh:
             plan[:, pipeline.PLAN_WORLD + 1 :] = 0
         self._last_args = None
         arrays = tuple(state.arrays().values())
         return gpu.launch(
-            arrays, layout.rows, ctx, plan, max_steps, until_rest, self.pair_capacity, undo, scratch
-        )
+            arrays, layout.rows, ctx, plan, max_steps, until_rest, self.pair_capacity, undo,
+            scratch, buffers,
+        )  # fmt: skip
 
     def _scratch(self, rows: int, bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
         """``rows`` scratch rows for worlds of ``bodies`` slots and ``points`` contacts."""
