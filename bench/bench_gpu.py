@@ -10,7 +10,9 @@ One prepared script for the lent GPU machine, printing in one run:
    call, on at most ``--cpu-worlds`` of the worlds: a world costs the CPU the same
    however many there are), and a GPU call's fixed cost (a one-step call);
 3. agreement: 256 shots played on both, the largest difference in a ball's position and
-   velocity after the break, and how many worlds ended bitwise equal;
+   velocity after the break, and how many worlds ended bitwise equal; then in the game,
+   256 full racks of ``Pool2D-v0`` and five seeded random shots each on both: how many
+   shots gave the same reward, pots and fouls;
 4. ``Pool2D-v0``'s vector env: shots/s at 10^4 and 10^5 tables on the GPU (every table's
    shot one launch), and on the CPU;
 5. Jax2D's pool break on the same GPU at 10^4 and 10^5 worlds (each size compiles
@@ -157,6 +159,36 @@ def agreement(worlds: int, steps: int) -> list[str]:
     return [f"{worlds}", f"{steps}", f"{position:.3g}", f"{velocity:.3g}", f"{same}/{worlds}"]
 
 
+def game_agreement(tables: int, shots: int, seconds: float | None) -> list[str]:
+    """The same seeded racks and shots of ``Pool2D-v0`` (15 balls) on both: how many of
+    the shots gave the same reward, pots and fouls, and the largest difference in a
+    ball's place after them (m)."""
+    import gymnasium as gym
+
+    say(f"game agreement: {tables} racks, {shots} shots on both")
+    options = {"max_shot_seconds": seconds} if seconds else {}
+    played = []
+    for device in ("cpu", "cuda"):
+        env = gym.make_vec(
+            "Pool2D-v0", tables, vectorization_mode="vector_entry_point", device=device,
+            autoreset_mode="same_step", **options,
+        )  # fmt: skip
+        env.reset(seed=0)
+        actions = np.random.default_rng(0).uniform(-1, 1, (shots, *env.action_space.shape))
+        outcomes = []
+        for action in actions.astype(np.float32):
+            _, reward, _, _, info = env.step(action)
+            outcomes.append((reward, info["potted"], info["fouls"]))
+        played.append((outcomes, env.unwrapped.game.world.state.body[:, :, :2].copy()))
+    (cpu, cpu_end), (gpu, gpu_end) = played
+    same = sum(
+        int(np.sum((c[0] == g[0]) & (c[1] == g[1]) & (c[2] == g[2])))
+        for c, g in zip(cpu, gpu, strict=True)
+    )
+    place = float(np.abs(cpu_end - gpu_end).max())
+    return [f"{tables}", f"{shots}", f"{same}/{tables * shots}", f"{place:.3g}"]
+
+
 def env_rate(tables: int, device: str, shots: int, seconds: float | None = None) -> float:
     import gymnasium as gym
 
@@ -246,6 +278,11 @@ def main() -> None:
         "agreement, CPU against GPU (m, m/s)",
         ["worlds", "steps", "max |dx|", "max |dv|", "bitwise equal"],
         [agreement(*agree)],
+    )
+    table(
+        "agreement in the game: Pool2D-v0, full racks, random shots on both",
+        ["tables", "shots", "same reward, pots, fouls", "max |dx| after (m)"],
+        [game_agreement(agree[0], 5 if not args.smoke else 1, env_seconds)],
     )
     table(
         f"Pool2D-v0 vector env, {shots} random shots (shots/s; target >= {TARGET_SHOTS:.0e})",

@@ -235,7 +235,8 @@ def test_the_gpu_benchmark_runs_every_section_in_the_simulator():
     )  # fmt: skip
     assert done.returncode == 0, done.stderr[-3000:]
     out = done.stdout
-    for section in ("first launch", "pool break", "agreement", "Pool2D-v0", "Jax2D"):
+    for section in ("first launch", "pool break", "agreement", "in the game", "Jax2D"):
         assert section in out, out
+    assert "3/3" in out.split("agreement in the game")[1].splitlines()[3]
     agreement = out.split("agreement")[1].splitlines()[3].split()
     assert agreement[-1] == "3/3" and agreement[2] == agreement[3] == "0"
