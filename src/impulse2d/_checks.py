@@ -188,3 +188,11 @@ def word(name: str, value: Any, options: tuple[str, ...]) -> str:
     if not isinstance(value, str) or value not in options:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}, got {value!r}")
     return str(value)
+
+
+def rgb(name: str, value: Any) -> tuple[float, float, float]:
+    """A colour: three numbers in [0, 255] (red, green, blue)."""
+    array = real_array(name, value, (3,))
+    if np.any((array < 0.0) | (array > 255.0)):
+        raise ValueError(f"{name} must be three numbers in [0, 255], got {value!r}")
+    return float(array[0]), float(array[1]), float(array[2])

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import itertools
 import os
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -300,25 +301,33 @@ def _entry_point(args: tuple) -> Any:
     return pipeline.advance if compiled is None else compiled.entry_point
 
 
-def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
-    """``pipeline.advance(*args)`` with the plan's rows cut into ``chunks`` chunks of
-    consecutive rows, each with a scratch row of its own, taken one at a time by
-    ``threads`` threads (the caller's and helpers)."""
-    *arrays, plan, max_steps, until_rest, floats, ints, pairs, undo_floats, undo_ints, fresh = args
-    rows = plan.shape[0]
+def in_chunks(call: Callable[[int, int, int], Any], rows: int, chunks: int, threads: int) -> None:
+    """``call(c, lo, hi)`` for chunk ``c`` of ``chunks`` chunks of consecutive rows
+    ``lo:hi`` of ``rows``, the chunks taken one at a time by ``threads`` threads (the
+    caller's and helpers). For compiled calls that release the GIL."""
     next_chunk = itertools.count()  # each chunk to one thread only (its next is atomic)
 
     def take_chunks() -> None:
         for c in next_chunk:
             if c >= chunks:
                 return
-            lo, hi = c * rows // chunks, (c + 1) * rows // chunks
-            pipeline.advance(
-                *arrays, plan[lo:hi], max_steps, until_rest, floats[c : c + 1],
-                ints[c : c + 1], pairs, undo_floats, undo_ints, fresh,
-            )  # fmt: skip
+            call(c, c * rows // chunks, (c + 1) * rows // chunks)
 
     helpers = [_helper_threads(threads - 1).submit(take_chunks) for _ in range(threads - 1)]
     take_chunks()
     for helper in helpers:
         helper.result()
+
+
+def _in_chunks(args: tuple, chunks: int, threads: int) -> None:
+    """``pipeline.advance(*args)`` with the plan's rows cut into ``chunks`` chunks, each
+    with a scratch row of its own (``in_chunks``)."""
+    *arrays, plan, max_steps, until_rest, floats, ints, pairs, undo_floats, undo_ints, fresh = args
+
+    def advance_chunk(c: int, lo: int, hi: int) -> None:
+        pipeline.advance(
+            *arrays, plan[lo:hi], max_steps, until_rest, floats[c : c + 1], ints[c : c + 1],
+            pairs, undo_floats, undo_ints, fresh,
+        )  # fmt: skip
+
+    in_chunks(advance_chunk, plan.shape[0], chunks, threads)
