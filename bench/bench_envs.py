@@ -284,6 +284,14 @@ def _pool_rows(cfg: Config, pm: dict[tuple[str, int], dict]) -> tuple[list[Row],
             f"x{res['shots_per_s'] / num1:.3g} (1p), x{res['shots_per_s'] / num2:.3g} (2p)"
         )
         rows.append(_row(f"{POOL} vector env", n, res, notes, refs))
+    n, steps = max(cfg.vec_steps), cfg.vec_steps[max(cfg.vec_steps)]
+    pixels = env_runs.measure_vector(POOL, n, steps, cfg.seed, obs_type="pixels")
+    ratio = pixels["shots_per_s"] / imp[n]["shots_per_s"]
+    notes = (
+        f"obs_type='pixels' (84x84 RGB, every table's frame each step): x{ratio:.2f} the "
+        f"state env's shots/s above (target >= 0.5: {'ok' if ratio >= 0.5 else 'MISS'})"
+    )
+    rows.append(_row(f"{POOL} vector env, pixels", n, pixels, notes, refs))
     return rows, imp
 
 

@@ -67,7 +67,9 @@ def _run_with_bar(total: int, desc: str, run: Callable[[Callable[[int], None]], 
 
 
 # -- impulse2d envs ----------------------------------------------------------------------------
-def _make(env_id: str, num_envs: int | None = None) -> gym.Env | gym.vector.VectorEnv:
+def _make(
+    env_id: str, num_envs: int | None = None, **options: Any
+) -> gym.Env | gym.vector.VectorEnv:
     """``gym.make`` or the batched ``gym.make_vec``; :class:`NotInstalled` if the entry
     point's module cannot be imported or lacks the class (an error inside the env's
     constructor is not hidden)."""
@@ -87,7 +89,7 @@ def _make(env_id: str, num_envs: int | None = None) -> gym.Env | gym.vector.Vect
     # step on each reset), as SB3 training runs it.
     return gym.make_vec(
         env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
-        autoreset_mode=AutoresetMode.SAME_STEP,
+        autoreset_mode=AutoresetMode.SAME_STEP, **options,
     )  # fmt: skip
 
 
@@ -155,13 +157,14 @@ def _per_env(info: dict[str, Any], key: str) -> np.ndarray | None:
 
 
 def measure_vector(
-    env_id: str, num_envs: int, steps: int, seed: int = 0, warmup: int = 1
+    env_id: str, num_envs: int, steps: int, seed: int = 0, warmup: int = 1, **options: Any
 ) -> dict[str, Any]:
     """Shots/s of the vector env of ``num_envs`` worlds over ``steps`` vector steps (each
-    one shot per world), after ``warmup`` untimed ones. ``slowest`` is the mean over the
-    timed vector steps of the most physics steps any world took (what a vector step lasts).
-    Raises :class:`NotInstalled` if the env's module cannot be imported."""
-    env = _make(env_id, num_envs)
+    one shot per world), after ``warmup`` untimed ones; ``options`` go to the env
+    (``obs_type="pixels"``). ``slowest`` is the mean over the timed vector steps of the
+    most physics steps any world took (what a vector step lasts). Raises
+    :class:`NotInstalled` if the env's module cannot be imported."""
+    env = _make(env_id, num_envs, **options)
     stage(f"{env_id} x {num_envs}: reset and {warmup} warm-up step(s)")
     env.reset(seed=seed)
     env.action_space.seed(seed)

@@ -26,7 +26,9 @@ turns a game's ``max_shot_seconds`` into it) and the bounds of one observation,
 (``check_num_envs`` for the number of worlds), builds its worlds, then calls it. It also
 fills in ``_new_episode`` (set the template up from a world's own random generator),
 ``_launch`` (apply the actions), ``_score`` (reward, end of episode and info after a
-shot, from what the engine recorded), ``observe``, ``make_renderer`` and ``drag_action``;
+shot, from what the engine recorded), ``observe``, ``make_renderer``, ``make_frames``
+(what ``pixels``, the agent's view, draws; with ``paint`` and ``decorate`` where it
+changes) and ``drag_action``;
 and ``per_world``, the names of its attributes with one row per world (what a saved
 state must hold besides the worlds and the generators).
 
@@ -51,6 +53,7 @@ import numpy as np
 
 import impulse2d as p2
 from impulse2d import _checks
+from impulse2d.pixels import Frames
 from impulse2d.render import Renderer
 
 Info = dict[str, np.ndarray]
@@ -133,6 +136,7 @@ class ShotGame:
         self.rngs: list[np.random.Generator] = [
             np.random.default_rng() for _ in range(self.batch_size)
         ]
+        self._frames: dict[int, Frames] = {}  # pixels(): the frames of each size asked for
 
     # -- for subclasses -----------------------------------------------------------------------
     def _new_episode(self, world: int, rng: np.random.Generator) -> None:
@@ -154,6 +158,29 @@ class ShotGame:
     def make_renderer(self, width: int, height: int) -> Renderer:
         """A renderer set up to draw this game (camera, colours, decorations)."""
         raise NotImplementedError
+
+    def make_frames(self, size: int) -> Frames:
+        """The agent's view of every world, ``size`` x ``size`` pixels: the game's camera,
+        what never moves drawn into the background, the bodies' colours."""
+        raise NotImplementedError
+
+    def paint(self, frames: Frames) -> None:
+        """Colours that change during a game (a block losing health), set before each
+        drawing; none by default."""
+
+    def decorate(self, images: np.ndarray, size: int) -> None:
+        """What a frame shows besides the bodies (a count of birds left), drawn into the
+        drawn ``images`` (batch_size, size, size, 3); nothing by default."""
+
+    def pixels(self, size: int) -> np.ndarray:
+        """Every world as an agent sees it: ``(batch_size, size, size, 3)`` uint8."""
+        frames = self._frames.get(size)
+        if frames is None:
+            frames = self._frames[size] = self.make_frames(size)
+        self.paint(frames)
+        images = frames()
+        self.decorate(images, size)
+        return images
 
     def drag_action(self, world: int, start: Any, end: Any) -> np.ndarray:
         """The action a person means by dragging the mouse from ``start`` to ``end`` (world

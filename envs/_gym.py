@@ -54,6 +54,27 @@ class EnvState:
     autoreset: np.ndarray
 
 
+OBS_TYPES = ("state", "pixels")
+PIXEL_SIZE = 84  # the side of a pixel observation (Atari's, and most vision RL's)
+
+
+class _View:
+    """What an env observes: the game's state vector (``obs_type="state"``) or its
+    frames, ``pixel_size`` square, RGB uint8 (``"pixels"``, ``ShotGame.pixels``)."""
+
+    def __init__(self, obs_type: Any, pixel_size: Any) -> None:
+        self.obs_type = _checks.word("obs_type", obs_type, OBS_TYPES)
+        self.size = _checks.int_in("pixel_size", pixel_size, 16, 1024)
+
+    def space(self, game: ShotGame) -> gym.spaces.Box:
+        if self.obs_type == "pixels":
+            return gym.spaces.Box(0, 255, (self.size, self.size, 3), np.uint8)
+        return gym.spaces.Box(game.observation_low, game.observation_high, dtype=np.float32)
+
+    def observe(self, game: ShotGame) -> np.ndarray:
+        return game.pixels(self.size) if self.obs_type == "pixels" else game.observe()
+
+
 RENDER_SIZE = (480, 270)  # width, height of rgb_array frames (pixels)
 RENDER_FPS = 30  # frames per simulated second in rgb_array_list and human modes
 
@@ -165,14 +186,20 @@ class ShotEnv(gym.Env):
     }
     game_class: type[ShotGame]
 
-    def __init__(self, render_mode: str | None = None, **game_options: Any) -> None:
+    def __init__(
+        self,
+        render_mode: str | None = None,
+        obs_type: str = "state",
+        pixel_size: int = PIXEL_SIZE,
+        **game_options: Any,
+    ) -> None:
         render_mode = _render_mode(render_mode, self.metadata["render_modes"])
+        self._view = _View(obs_type, pixel_size)
         self.game = self.game_class(1, **game_options)
+        self.obs_type, self.pixel_size = self._view.obs_type, self._view.size
         self.render_mode = render_mode
         self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"])
-        self.observation_space = gym.spaces.Box(
-            self.game.observation_low, self.game.observation_high, dtype=np.float32
-        )
+        self.observation_space = self._view.space(self.game)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (self.game.action_size,), np.float32)
         self._ready = False
 
@@ -185,7 +212,7 @@ class ShotEnv(gym.Env):
         self._ready = True
         self._frames.take()
         self._after_move()
-        return self.game.observe()[0], {}
+        return self._view.observe(self.game)[0], {}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if not self._ready:
@@ -196,7 +223,7 @@ class ShotEnv(gym.Env):
             [0], action[None], frames.during_shot, frames.every
         )
         self._after_move()
-        obs = self.game.observe()[0]
+        obs = self._view.observe(self.game)[0]
         return obs, float(reward[0]), bool(terminated[0]), False, _scalars(info)
 
     def save_state(self) -> EnvState:
@@ -214,7 +241,7 @@ class ShotEnv(gym.Env):
         if not isinstance(state, EnvState):
             raise ValueError(f"state must be an EnvState, got {type(state).__name__}")
         self.game.restore_state(state.game)
-        return self.game.observe()[0]
+        return self._view.observe(self.game)[0]
 
     def _require_reset(self) -> None:
         if not self._ready:
@@ -259,6 +286,8 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         render_mode: str | None = None,
         threads: int | None = None,
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        obs_type: str = "state",
+        pixel_size: int = PIXEL_SIZE,
         **game_options: Any,
     ) -> None:
         # The cheap checks first, then the game (which checks num_envs and its own).
@@ -271,14 +300,14 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             )
         self.max_episode_steps = max_episode_steps
         render_mode = _render_mode(render_mode, self.metadata["render_modes"])
+        self._view = _View(obs_type, pixel_size)
+        self.obs_type, self.pixel_size = self._view.obs_type, self._view.size
         self.game = self.game_class(num_envs, **game_options)
         self.game.world.threads = threads  # checked there: None or an int in [1, cores]
         self.num_envs = self.game.batch_size
         self.render_mode = render_mode
         self._frames = _Frames(self.game, render_mode, self.metadata["render_modes"], self.num_envs)
-        self.single_observation_space = gym.spaces.Box(
-            self.game.observation_low, self.game.observation_high, dtype=np.float32
-        )
+        self.single_observation_space = self._view.space(self.game)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self.game.action_size,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -316,7 +345,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         self._autoreset[envs] = False
         self._ready = True
         self._frames.during_shot()  # rgb_array_list: the position after the reset
-        return self.game.observe(), {}
+        return self._view.observe(self.game), {}
 
     def step(
         self, actions: Any
@@ -340,7 +369,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         reward, terminated, info = self._shoot(self._all, actions)
         self._moves += 1
         truncated = self._truncated(terminated)
-        observations = self.game.observe()
+        observations = self._view.observe(self.game)
         infos: dict[str, Any] = {}
         done = terminated | truncated
         if done.any():
@@ -353,7 +382,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             infos["_final_info"] = done.copy()
             self.game.reset(ended)
             self._moves[ended] = 0
-            observations[ended] = self.game.observe()[ended]
+            observations[ended] = self._view.observe(self.game)[ended]
         infos.update(_masked(info, ~done))
         return observations, reward, terminated, truncated, infos
 
@@ -376,7 +405,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         picked = self.game.restore_state(state.game, worlds)
         self._moves[picked] = state.moves[picked]
         self._autoreset[picked] = state.autoreset[picked]
-        return self.game.observe()
+        return self._view.observe(self.game)
 
     def _shoot(self, worlds: np.ndarray, actions: np.ndarray) -> tuple[Any, Any, Any]:
         """``game.shoot`` with the frames of the render mode during the shot."""
@@ -411,7 +440,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
             infos = _masked(full, ~starting)
         truncated = self._truncated(terminated) & ~starting
         self._autoreset = terminated | truncated
-        return self.game.observe(), reward, terminated, truncated, infos
+        return self._view.observe(self.game), reward, terminated, truncated, infos
 
     def _step_disabled(
         self, actions: np.ndarray
@@ -428,7 +457,7 @@ class ShotVectorEnv(gym.vector.VectorEnv):
         truncated = self._truncated(terminated)
         self._autoreset = terminated | truncated
         infos = _masked(info, np.ones(self.num_envs, dtype=bool))
-        return self.game.observe(), reward, terminated, truncated, infos
+        return self._view.observe(self.game), reward, terminated, truncated, infos
 
     def render(self) -> tuple[np.ndarray, ...] | tuple[list[np.ndarray], ...] | None:
         """``rgb_array``: one frame per world, as a tuple. ``rgb_array_list``: per world,

@@ -345,6 +345,11 @@ class _Task:
                 f"env must be a {self.game.__name__[:-4]}2D env (gym.make of Pool2D-v0 or "
                 f"Slingshot2D-v0), got {env.unwrapped!r}"
             )
+        if getattr(env.unwrapped, "obs_type", "state") != "state":
+            raise ValueError(
+                f"obs_type must be 'state' for {self.name} (its observations are features "
+                f"of the state), got {env.unwrapped.obs_type!r}"
+            )
         return game
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import impulse2d as p2
 from impulse2d import _checks
 from impulse2d import _raster as raster
+from impulse2d.pixels import Frames
 from impulse2d.render import Camera, Renderer, Style
 
 from ._core import Info, ShotGame, action_to_range, check_num_envs, shot_steps
@@ -372,6 +373,35 @@ class PoolGame(ShotGame):
             width, height, Camera.fit_view(view, width, height), style, underlay=self._cloth
         )
 
+    def make_frames(self, size: int) -> Frames:
+        """Top down, the table filling the frame's width: the rails, cloth, pockets and
+        cushions drawn once into the background, each ball in its own colour (a potted
+        ball is switched off and not drawn)."""
+        margin = CUSHION_THICKNESS + 0.03
+        half_l, half_w = TABLE_LENGTH / 2 + margin, TABLE_WIDTH / 2 + margin
+        frames = Frames(self.world, size, size, view=((-half_l, -half_w), (half_l, half_w)))
+        canvas = np.empty((size, size, 3), np.float32)
+        canvas[:] = (40, 28, 22)
+        scale = frames.scale
+        x, y = frames.to_pixels(0.0, 0.0)
+        half = (0.5 * TABLE_LENGTH * scale, 0.5 * TABLE_WIDTH * scale)
+        raster.box(canvas, x, y, 0.0, *half, np.array((30, 120, 70), np.float32))
+        for (cx, cy), radius in zip(self.pocket_centres, self.pocket_radii, strict=True):
+            px, py = frames.to_pixels(cx, cy)
+            raster.disc(canvas, px, py, radius * scale, np.array((8, 8, 8), np.float32))
+        for cx, cy, w, h in cushions():
+            px, py = frames.to_pixels(cx, cy)
+            colour = np.array((22, 96, 58), np.float32)
+            raster.box(canvas, px, py, 0.0, 0.5 * w * scale, 0.5 * h * scale, colour)
+        frames.background = np.clip(np.rint(canvas), 0, 255).astype(np.uint8)
+        balls = {id(ball) for ball in self.balls}
+        for body in self.world.bodies:
+            if id(body) not in balls:
+                frames.hide(body)  # the cushions: in the background
+        for ball, colour in zip(self.balls, BALL_COLOURS, strict=False):
+            frames.colour(ball, colour)
+        return frames
+
     def _cloth(self, canvas: np.ndarray, renderer: Renderer) -> None:
         """The cloth and the pockets, under everything."""
         x0, y0 = renderer.to_pixels(-TABLE_LENGTH / 2, TABLE_WIDTH / 2)
@@ -419,6 +449,9 @@ class Pool2DEnv(ShotEnv):
     | 3 i + 1     | y of ball i / 0.635 m (0 when potted)   | -1  | 1   |
     | 3 i + 2     | 1 if ball i is potted, else 0           | 0   | 1   |
 
+    With `obs_type="pixels"`: `Box(0, 255, (pixel_size, pixel_size, 3), uint8)`, the
+    table from above (see Arguments).
+
     ## Rewards
     +1 per object ball potted; -1 if the cue ball is potted (a scratch: it comes back on
     the head spot, or the nearest free point to it behind the head string); -0.1 if the
@@ -450,7 +483,7 @@ class Pool2DEnv(ShotEnv):
     gym.make("Pool2D-v0", num_balls=15, layout=None, max_shot_seconds=20.0, shaping=0.0,
              render_mode=None)
     gym.make_vec("Pool2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
-                 threads=None, device="cpu")
+                 threads=None, device="cpu", obs_type="state", pixel_size=84)
     ```
     * `num_balls` (1-15): object balls. `num_balls=1` with a random layout, one ball to
       pot from anywhere, is the natural first task for learning.
@@ -464,6 +497,10 @@ class Pool2DEnv(ShotEnv):
       results do not depend on it.
     * `device`: `"cpu"`, or `"cuda"` to play every table's shot in one GPU launch (the
       `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
+    * `obs_type`: `"state"` (the vector above) or `"pixels"`: the table seen from above,
+      `pixel_size` x `pixel_size` RGB uint8 (16 to 1024, default 84): cloth, cushions
+      and pockets, each ball in its colour (a potted ball gone), drawn for every table
+      at once in compiled code (`impulse2d.pixels`).
     * `render_mode`: `"rgb_array"` (480x270 frame after the shot), `"rgb_array_list"`
       (frames at 30 per simulated second during the shots), `"human"` (pygame-ce window;
       without a display the env says so once, at the first frame, and plays on without

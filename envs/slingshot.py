@@ -10,6 +10,7 @@ import numpy as np
 import impulse2d as p2
 from impulse2d import _checks
 from impulse2d import _raster as raster
+from impulse2d.pixels import Frames
 from impulse2d.render import Camera, Renderer, Style
 
 from . import _levels
@@ -101,6 +102,7 @@ class SlingshotGame(ShotGame):
         self._built: dict[tuple, tuple] = {}  # levels built once (see LEVEL_CACHE)
         self.material = np.zeros((batch_size, slots), np.int64)  # blocks only
         self.birds_left = np.zeros(batch_size, np.int64)
+        self._bird_patches: dict[int, list] = {}  # decorate(): by frame size
         self._targets = np.array([body.slot for body in (*self.pigs, *self.blocks)])
         self._alive_before = self.alive
 
@@ -323,6 +325,59 @@ class SlingshotGame(ShotGame):
             overlay=self._draw_materials,
         )
 
+    def make_frames(self, size: int) -> Frames:
+        """From the side, the renderer's view: sky, ground and sling in the background,
+        the bird red, pigs green, blocks in their material's colour (``paint``), the
+        birds left as red dots at the top left (``decorate``)."""
+        (x0, y0, x1, y1), ground = VIEW, np.array((90, 150, 70), np.float32)
+        frames = Frames(self.world, size, size, view=((x0, y0), (x1, y1)))
+        canvas = np.empty((size, size, 3), np.float32)
+        canvas[:] = (150, 205, 235)
+        top = frames.to_pixels(0.0, 0.0)[1]  # the ground's surface; below it, all ground
+        raster.box(canvas, size / 2, (top + size + 2) / 2, 0.0, size / 2 + 2,
+                   (size + 2 - top) / 2, ground)  # fmt: skip
+        _sling(canvas, frames.to_pixels, frames.scale)
+        frames.background = np.clip(np.rint(canvas), 0, 255).astype(np.uint8)
+        frames.colour(self.bird, (210, 40, 40))
+        for pig in self.pigs:
+            frames.colour(pig, (110, 200, 60))
+        return frames
+
+    def paint(self, frames: Frames) -> None:
+        """Each block in its material's colour, darker as it loses health (per world)."""
+        health, most = self.health, self.max_health
+        for k, block in enumerate(self.blocks, start=MAX_PIGS):
+            left = np.divide(health[:, k], most[:, k], out=np.zeros(self.batch_size),
+                             where=most[:, k] > 0)  # fmt: skip
+            shade = 0.55 + 0.45 * np.maximum(left, 0.0)
+            frames.colour(block, _MATERIAL_COLOURS[self.material[:, k]] * shade[:, None])
+
+    def decorate(self, images: np.ndarray, size: int) -> None:
+        """A red dot for each bird left, in a row at the top left of the sky (beside the
+        sling, as the renderer puts them, the third would be out of the frame): one
+        patch of the background per count, pasted (no body flies that high there)."""
+        patches = self._bird_patches.get(size)
+        if patches is None:
+            patches = self._bird_patches[size] = self._make_bird_patches(size)
+        rows, cols, by_count = patches
+        for count, patch in enumerate(by_count):
+            images[self.birds_left == count, rows, cols] = patch
+
+    def _make_bird_patches(self, size: int) -> tuple[slice, slice, list[np.ndarray]]:
+        frames = self._frames[size]
+        radius = max(BIRD_RADIUS * frames.scale, 1.5)  # pixels: a dot, however small
+        step = 2.0 * radius + 1.0
+        centres = [(2.0 + radius + i * step, 2.0 + radius) for i in range(self.num_birds)]
+        xs, ys = [x for x, _ in centres], [y for _, y in centres]
+        rows = slice(max(int(min(ys) - radius) - 2, 0), min(int(max(ys) + radius) + 3, size))
+        cols = slice(max(int(min(xs) - radius) - 2, 0), min(int(max(xs) + radius) + 3, size))
+        canvas = frames.background.astype(np.float32)
+        by_count = [frames.background[rows, cols].copy()]
+        for x, y in centres:
+            raster.disc(canvas, x, y, radius, np.array((210, 40, 40), np.float32))
+            by_count.append(np.clip(np.rint(canvas[rows, cols]), 0, 255).astype(np.uint8))
+        return rows, cols, by_count
+
     def _draw_materials(self, canvas: np.ndarray, renderer: Renderer, world: int) -> None:
         """Blocks in their material's colour, darker as they lose health; birds left."""
         pose = self.world.array("pose")[:, world]
@@ -355,14 +410,19 @@ def _park(body: p2.Circle | p2.Box) -> None:
 
 
 def _draw_sling(canvas: np.ndarray, renderer: Renderer) -> None:
+    """The sling, for the renderer."""
+    _sling(canvas, renderer.to_pixels, renderer.camera.pixels_per_metre)
+
+
+def _sling(canvas: np.ndarray, to_pixels: Any, scale: float) -> None:
     """The sling: a fork on a post, from the ground to the launch point."""
     wood = np.array((110, 70, 35), np.float32)
-    width = 0.12 * renderer.camera.pixels_per_metre
-    x0, y0 = renderer.to_pixels(SLING[0], 0.0)
-    x1, y1 = renderer.to_pixels(SLING[0], SLING[1] - 0.3)
+    width = 0.12 * scale
+    x0, y0 = to_pixels(SLING[0], 0.0)
+    x1, y1 = to_pixels(SLING[0], SLING[1] - 0.3)
     raster.segment(canvas, x0, y0, x1, y1, width, wood)
     for side in (-1.0, 1.0):
-        x2, y2 = renderer.to_pixels(SLING[0] + side * 0.25, SLING[1] + 0.1)
+        x2, y2 = to_pixels(SLING[0] + side * 0.25, SLING[1] + 0.1)
         raster.segment(canvas, x1, y1, x2, y2, width, wood)
 
 
@@ -428,6 +488,9 @@ class Slingshot2DEnv(ShotEnv):
     | 9 k + 8    | health left, as a fraction of the full health      | 0   | 1   |
     | 216        | birds left / `num_birds`                           | 0   | 1   |
 
+    With `obs_type="pixels"`: `Box(0, 255, (pixel_size, pixel_size, 3), uint8)`, the
+    level from the side (see Arguments).
+
     ## Rewards
     +1 per pig destroyed, +0.1 per block destroyed, and when the last pig goes, +0.5 per
     bird not used. The spent bird is removed when its launch has settled; anything left
@@ -461,7 +524,7 @@ class Slingshot2DEnv(ShotEnv):
     gym.make("Slingshot2D-v0", level="random", num_birds=3, max_shot_seconds=10.0,
              num_levels=0, start_level=0, render_mode=None)
     gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
-                 threads=None, device="cpu")
+                 threads=None, device="cpu", obs_type="state", pixel_size=84)
     ```
     * `level`: `"random"`, `"handmade"` or a hand-made level's name (see Starting State).
     * `num_birds` (1-10): birds per level.
@@ -476,6 +539,10 @@ class Slingshot2DEnv(ShotEnv):
       results do not depend on it.
     * `device`: `"cpu"`, or `"cuda"` to play every world's launch in one GPU launch (the
       `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
+    * `obs_type`: `"state"` (the vector above) or `"pixels"`: the level seen from the
+      side, `pixel_size` x `pixel_size` RGB uint8 (16 to 1024, default 84): sky, ground
+      and sling, the bird red, pigs green, blocks in their material's colour (darker as
+      they lose health), a red dot at the top left for each bird left.
     * `render_mode`: `"rgb_array"` (480x270 frame after the launch), `"rgb_array_list"`
       (frames at 30 per simulated second during the launches), `"human"` (pygame-ce
       window; without a display the env says so once, at the first frame, and plays on

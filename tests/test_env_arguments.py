@@ -81,6 +81,8 @@ GAME_KEYWORDS: dict[str, dict[str, list[Any]]] = {
         "max_shot_seconds": [*REALS, 0, 0.0, -1.0, np.float64(-0.0), 3600.5, 1e300, 1e16],
         "shaping": [*REALS, -1.0, -5e-324, 1000.5, 1e300, np.float64(1e16)],
         "device": [*WORDS, None, "gpu", "cuda:0"],
+        "obs_type": [*WORDS, None, "rgb", "pixel"],
+        "pixel_size": [*COUNTS, 0, 15, 1025],
     },
     "Slingshot2D-v0": {
         "level": [*WORDS, None],
@@ -90,6 +92,8 @@ GAME_KEYWORDS: dict[str, dict[str, list[Any]]] = {
         # start_level's own rule, with num_levels > 0 (without, start_level needs it).
         "start_level": [v for v in COUNTS if not _positive_int(v)],
         "device": [*WORDS, None, "gpu"],
+        "obs_type": [*WORDS, None, "rgb"],
+        "pixel_size": [*COUNTS, 0, 15, 1025],
     },
 }
 NOT_NONE = [value for value in COUNTS if value is not None]

@@ -165,9 +165,20 @@ def test_bad_colours_and_strangers_are_refused_by_name():
     world = p2.World()
     ball = world.add(p2.Circle())
     frames = Frames(world)
-    with pytest.raises(ValueError, match=r"rgb must be three numbers in \[0, 255\]"):
+    with pytest.raises(ValueError, match=r"rgb must be numbers in \[0, 255\]"):
         frames.colour(ball, (-1, 0, 0))
     with pytest.raises(ValueError, match="rgb must have shape"):
         frames.colour(ball, (1, 2))
     with pytest.raises(ValueError, match="body must be a body of this world"):
         frames.hide(p2.World().add(p2.Circle()))
+
+
+def test_a_body_can_have_a_colour_per_world():
+    world = p2.World(batch_size=2)
+    ball = world.add(p2.Circle(position=(0.0, 0.0), radius=0.3))
+    frames = Frames(world, 20, 20)
+    frames.colour(ball, [(255, 0, 0), (0, 0, 255)])
+    middle = frames()[:, 10, 10]
+    assert middle.tolist() == [[255, 0, 0], [0, 0, 255]]
+    with pytest.raises(ValueError, match=r"rgb must have shape \(3,\) or \(2, 3\)"):
+        frames.colour(ball, np.zeros((3, 3)))

@@ -57,8 +57,8 @@ class Frames:
         self.left = 0.5 * (x0 + x1) - 0.5 * self.width / self.scale
         self.top = 0.5 * (y0 + y1) + 0.5 * self.height / self.scale
         self.background = background
-        self._own: dict[int, tuple[float, float, float, float]] = {}
-        self._colours = np.zeros((0, 4))
+        self._own: dict[int, np.ndarray] = {}  # slot: (4,) or (batch_size, 4)
+        self._colours = np.zeros((1, 0, 4))
         self._colours_for: Any = None
 
     @property
@@ -84,14 +84,22 @@ class Frames:
         return (np.asarray(x) - self.left) * self.scale, (self.top - np.asarray(y)) * self.scale
 
     def colour(self, body: Any, rgb: Any) -> None:
-        """Draw ``body`` in ``rgb`` (0-255 each) from now on."""
-        red, green, blue = _checks.rgb("rgb", rgb)
-        self._own[self._slot(body)] = (red, green, blue, 1.0)
+        """Draw ``body`` in ``rgb`` from now on: red, green, blue in [0, 255], the same in
+        every world (shape (3,)) or one row per world (``(batch_size, 3)``)."""
+        batch = self.world.batch_size
+        colour = _checks.real_array("rgb", rgb)
+        if colour.shape not in ((3,), (batch, 3)):
+            want = "(3,)" if batch == 1 else f"(3,) or ({batch}, 3)"
+            raise ValueError(f"rgb must have shape {want}, got shape {colour.shape}")
+        if np.any((colour < 0.0) | (colour > 255.0)):
+            raise ValueError(f"rgb must be numbers in [0, 255], got {rgb!r}")
+        drawn = np.ones((*colour.shape[:-1], 1))
+        self._own[self._slot(body)] = np.concatenate([colour, drawn], axis=-1)
         self._colours_for = None
 
     def hide(self, body: Any) -> None:
         """Leave ``body`` out of the frames."""
-        self._own[self._slot(body)] = (0.0, 0.0, 0.0, 0.0)
+        self._own[self._slot(body)] = np.zeros(4)
         self._colours_for = None
 
     def __call__(self) -> np.ndarray:
@@ -117,18 +125,20 @@ class Frames:
         return int(body.slot)
 
     def _slot_colours(self, shapes: np.ndarray) -> np.ndarray:
-        """(N, 4) red, green, blue, drawn: the body's own colour, else the renderer's
-        default for its kind and motion."""
-        if self._colours_for is shapes.base and len(self._colours) == len(shapes):
+        """(1 or B, N, 4) red, green, blue, drawn: the body's own colour, else the
+        renderer's default for its kind and motion; one row per world where a body has a
+        colour per world."""
+        if self._colours_for is shapes.base and self._colours.shape[1] == len(shapes):
             return self._colours
         style = Style()
-        colours = np.zeros((len(shapes), 4))
+        per_world = any(own.ndim == 2 for own in self._own.values())
+        colours = np.zeros((self.world.batch_size if per_world else 1, len(shapes), 4))
         for slot, (kind, motion) in enumerate(shapes):
             default = (
                 style.fixed if motion == FIXED
                 else style.kinematic if motion == KINEMATIC
                 else style.circle if kind == CIRCLE else style.box
             )  # fmt: skip
-            colours[slot] = self._own.get(slot, (*default, 1.0))
+            colours[:, slot] = self._own.get(slot, np.array((*default, 1.0)))
         self._colours, self._colours_for = colours, shapes.base
         return colours

@@ -26,10 +26,10 @@ from .state import CIRCLE, COS, ENABLED, FREE, HALF_H, HALF_W, PLANE, SIN, X, Y
 
 
 @inline
-def _blend(frame, i, j, coverage, colours, slot) -> None:
+def _blend(frame, i, j, coverage, colour) -> None:
     for c in range(3):
         old = float(frame[i, j, c])
-        frame[i, j, c] = int(old + coverage * (colours[slot, c] - old) + 0.5)
+        frame[i, j, c] = int(old + coverage * (colour[c] - old) + 0.5)
 
 
 @inline
@@ -39,7 +39,7 @@ def _span(centre: float, reach: float, size: int) -> tuple[int, int]:
 
 
 @inline
-def disc(frame, cx, cy, radius, colours, slot) -> None:
+def disc(frame, cx, cy, radius, colour) -> None:
     """A filled disc of ``radius`` pixels centred at pixel ``(cx, cy)``."""
     i0, i1 = _span(cy, radius, frame.shape[0])
     j0, j1 = _span(cx, radius, frame.shape[1])
@@ -49,11 +49,11 @@ def disc(frame, cx, cy, radius, colours, slot) -> None:
             dx = j + 0.5 - cx
             coverage = min(max(0.5 - (math.sqrt(dx * dx + dy * dy) - radius), 0.0), 1.0)
             if coverage > 0.0:
-                _blend(frame, i, j, coverage, colours, slot)
+                _blend(frame, i, j, coverage, colour)
 
 
 @inline
-def box(frame, cx, cy, half_w, half_h, cos, sin, colours, slot) -> None:
+def box(frame, cx, cy, half_w, half_h, cos, sin, colour) -> None:
     """A filled rectangle of half sizes ``half_w`` x ``half_h`` pixels centred at pixel
     ``(cx, cy)``, turned counter-clockwise (as the world sees it, y up) by the angle whose
     cosine and sine are given. In the box's frame a pixel is at ``(u, v)``; its distance
@@ -72,22 +72,24 @@ def box(frame, cx, cy, half_w, half_h, cos, sin, colours, slot) -> None:
             distance = outside + min(max(qu, qv), 0.0)
             coverage = min(max(0.5 - distance, 0.0), 1.0)
             if coverage > 0.0:
-                _blend(frame, i, j, coverage, colours, slot)
+                _blend(frame, i, j, coverage, colour)
 
 
 @kernel
 def draw(frames, background, body, body_i, shapes, colours, scale, left, top, first, last):
     """The frames of worlds ``first`` to ``last - 1`` (rows of ``frames``, (B, H, W, 3)
     uint8): each starts from ``background`` (H, W, 3) and gets every enabled body whose
-    ``colours`` row (N, 4: red, green, blue, drawn) says to draw it, in slot order, at
-    ``scale`` pixels a metre with the world point ``(left, top)`` at the frame's top left
-    corner. Planes are the caller's to draw in the background."""
+    ``colours`` row says to draw it, in slot order, at ``scale`` pixels a metre with the
+    world point ``(left, top)`` at the frame's top left corner. ``colours`` (1 or B, N,
+    4): red, green, blue and drawn (0 or 1) of each slot, the same in every world or per
+    world. Planes are the caller's to draw in the background."""
     for w in range(first, last):
         frame = frames[w]
         frame[:] = background
+        palette = colours[w if colours.shape[0] > 1 else 0]
         for slot in range(shapes.shape[0]):
             kind = shapes[slot, 0]
-            if kind == FREE or kind == PLANE or colours[slot, 3] == 0.0:
+            if kind == FREE or kind == PLANE or palette[slot, 3] == 0.0:
                 continue
             if body_i[w, slot, ENABLED] == 0:
                 continue
@@ -95,7 +97,7 @@ def draw(frames, background, body, body_i, shapes, colours, scale, left, top, fi
             cy = (top - body[w, slot, Y]) * scale
             half_w, half_h = body[w, slot, HALF_W] * scale, body[w, slot, HALF_H] * scale
             if kind == CIRCLE:
-                disc(frame, cx, cy, half_w, colours, slot)
+                disc(frame, cx, cy, half_w, palette[slot])
             else:
                 box(frame, cx, cy, half_w, half_h, body[w, slot, COS], body[w, slot, SIN],
-                    colours, slot)  # fmt: skip
+                    palette[slot])  # fmt: skip
