@@ -53,12 +53,37 @@ def _rows(observation: Any, act: Any) -> np.ndarray:
 def _pool_row(row: np.ndarray) -> np.ndarray:
     positions, flags = pool.ball_positions(row)
     xy, on_table = positions[0], flags[0]
-    cue = xy[0]
     targets = np.flatnonzero(on_table[1:]) + 1
+    shots = pool_shots(row)
+    if not shots:  # nothing clear: hit the nearest ball full on, firmly
+        if targets.size == 0:
+            return np.zeros(2)
+        nearest = targets[np.argmin(np.hypot(*(xy[targets] - xy[0]).T))]
+        aim, speed = xy[nearest] - xy[0], 3.0
+    else:
+        _, aim, speed, _ = max(shots, key=lambda shot: shot[0])
+    return pool_action(aim, speed)
+
+
+def pool_action(aim: np.ndarray, speed: float) -> np.ndarray:
+    """The Pool2D action that sends the cue ball along ``aim`` at ``speed`` (m/s)."""
+    strength = np.clip(range_to_action(speed, pool.SPEED_RANGE), -1, 1)
+    return np.array([math.atan2(aim[1], aim[0]) / math.pi, strength])
+
+
+def pool_shots(row: np.ndarray) -> list[tuple[float, np.ndarray, float, int]]:
+    """Every ghost-ball shot of one Pool2D observation whose cut is under 70 degrees and
+    whose two paths (cue ball to ghost, object ball to pocket) are clear of other balls,
+    as ``(score, aim, speed, ball)``: ``score = cos(cut)^2 / (1 + reach + run)`` (m),
+    higher for straighter and shorter shots; ``aim`` the cue ball's direction, ``speed``
+    its speed (m/s) to bring the object ball to the pocket with some to spare."""
+    positions, flags = pool.ball_positions(row)
+    xy, on_table = positions[0], flags[0]
+    cue = xy[0]
     r = pool.BALL_RADIUS
-    best: tuple[float, np.ndarray, float] | None = None
     pockets, _ = pool.pockets()
-    for i in targets:
+    shots = []
+    for i in np.flatnonzero(on_table[1:]) + 1:
         obstacle = on_table.copy()
         obstacle[[0, i]] = False  # the cue ball and the target are not in the way
         others = xy[obstacle]
@@ -76,17 +101,8 @@ def _pool_row(row: np.ndarray) -> np.ndarray:
             if not (_clear(cue, ghost, others, 2 * r) and _clear(xy[i], pocket, others, 2 * r)):
                 continue
             score = math.cos(cut) ** 2 / (1.0 + reach + run)
-            if best is None or score > best[0]:
-                best = (score, aim, _pool_speed(reach, run, cut))
-    if best is None:  # nothing clear: hit the nearest ball full on, firmly
-        if targets.size == 0:
-            return np.zeros(2)
-        nearest = targets[np.argmin(np.hypot(*(xy[targets] - cue).T))]
-        aim, speed = xy[nearest] - cue, 3.0
-    else:
-        _, aim, speed = best
-    strength = np.clip(range_to_action(speed, pool.SPEED_RANGE), -1, 1)
-    return np.array([math.atan2(aim[1], aim[0]) / math.pi, strength])
+            shots.append((score, aim, _pool_speed(reach, run, cut), int(i)))
+    return shots
 
 
 def _pool_speed(reach: float, run: float, cut: float) -> float:
