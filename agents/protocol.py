@@ -1,6 +1,7 @@
-"""The Pool protocol: the numbers a pool player is judged by, for any policy, as a table.
+"""The protocols: the numbers a player of each game is judged by, for any policy.
 
     python -m agents.protocol --policies random ghost planner --episodes 20
+    python -m agents.protocol --game slingshot --level handmade --episodes 20
 
 plays ``Pool2D-v0``'s full game (the 15-ball rack, broken by the first shot; at most 30
 shots) from the same seeded racks (env seeds ``--seed`` on) with each policy and prints,
@@ -21,6 +22,11 @@ Policies: ``random`` (uniform actions from a generator seeded ``--seed``), ``gho
 (``planner.PoolPlanner`` with ``--candidates`` simulated shots a shot). A trained agent
 needs a model trained on ``Pool2D-v0``'s own actions; the published ones play the
 call-shot tasks (``Pool2DRackCallShot-v0``), scored by ``python -m agents.evaluate``.
+
+``--game slingshot`` plays ``Slingshot2D-v0`` (``--level random`` or ``handmade``, three
+birds) with ``random``, ``ballistic`` (``baselines.slingshot_ballistic``) and
+``planner`` (``planner.SlingshotPlanner``), and prints the reward, the levels cleared
+(every pig down), pigs destroyed a launch, launches an episode and the time a launch.
 """
 
 from __future__ import annotations
@@ -35,11 +41,12 @@ import gymnasium as gym
 import numpy as np
 
 import impulse2d  # noqa: F401  (registers the ids)
-from impulse2d.envs.baselines import pool_ghost_ball
-from impulse2d.envs.planner import PoolPlanner
+from impulse2d.envs.baselines import pool_ghost_ball, slingshot_ballistic
+from impulse2d.envs.planner import PoolPlanner, SlingshotPlanner
 
 BALLS, MAX_SHOTS = 15, 30
 POLICIES = ("random", "ghost", "planner")
+SLINGSHOT_POLICIES = ("random", "ballistic", "planner")
 
 
 @dataclass
@@ -71,12 +78,55 @@ class Record:
 
 
 def make_policy(name: str, env: gym.Env, seed: int, candidates: int) -> Callable:
+    slingshot = env.spec is not None and env.spec.id.startswith("Slingshot2D")
     if name == "ghost":
         return pool_ghost_ball
+    if name == "ballistic":
+        return slingshot_ballistic
     if name == "planner":
-        return PoolPlanner(env, candidates=candidates, seed=seed)
+        planner = SlingshotPlanner if slingshot else PoolPlanner
+        return planner(env, candidates=candidates, seed=seed)
     rng = np.random.default_rng(seed)
     return lambda _obs: rng.uniform(-1.0, 1.0, 2).astype(np.float32)
+
+
+@dataclass
+class LaunchRecord:
+    """What one policy did over Slingshot2D episodes."""
+
+    rewards: list[float] = field(default_factory=list)
+    launches: int = 0
+    pigs: int = 0
+    cleared: int = 0
+    seconds_choosing: float = 0.0
+
+    def row(self, name: str) -> list[str]:
+        episodes, launches = len(self.rewards), max(self.launches, 1)
+        return [
+            name,
+            f"{np.mean(self.rewards):.2f} ± {np.std(self.rewards):.2f}",
+            f"{self.cleared}/{episodes}",
+            f"{self.pigs / launches:.3f}",
+            f"{self.launches / episodes:.2f}",
+            f"{1e3 * self.seconds_choosing / launches:.1f}",
+        ]
+
+
+def play_slingshot(env: gym.Env, policy: Callable, seed: int, record: LaunchRecord) -> None:
+    """One Slingshot2D episode from env seed ``seed``, into ``record``."""
+    obs, _ = env.reset(seed=seed)
+    total, done, info = 0.0, False, {}
+    while not done:
+        t0 = time.perf_counter()
+        action = policy(obs)
+        record.seconds_choosing += time.perf_counter() - t0
+        obs, reward, terminated, truncated, info = env.step(action)
+        total += reward
+        record.launches += 1
+        record.pigs += int(info["pigs_destroyed"])
+        done = terminated or truncated
+    record.rewards.append(total)
+    record.cleared += bool(info["cleared"])
 
 
 def play(env: gym.Env, policy: Callable, seed: int, record: Record) -> None:
@@ -103,9 +153,12 @@ def play(env: gym.Env, policy: Callable, seed: int, record: Record) -> None:
     record.break_and_runs += cleared and fouls == 0 and every_shot_pots
 
 
-def table(rows: list[list[str]]) -> str:
-    header = ["policy", "reward", "pot rate", "foul rate", "cleared", "run-out",
-              "break-and-run", "shots", "ms/shot"]  # fmt: skip
+POOL_HEADER = ["policy", "reward", "pot rate", "foul rate", "cleared", "run-out",
+               "break-and-run", "shots", "ms/shot"]  # fmt: skip
+SLINGSHOT_HEADER = ["policy", "reward", "cleared", "pigs/launch", "launches", "ms/launch"]
+
+
+def table(rows: list[list[str]], header: list[str] = POOL_HEADER) -> str:
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)) for r in [header, *rows]]
     lines.insert(1, "  ".join("-" * w for w in widths))
@@ -114,25 +167,43 @@ def table(rows: list[list[str]]) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--policies", nargs="+", choices=POLICIES, default=list(POLICIES))
-    parser.add_argument("--episodes", type=int, default=20, help="racks, one episode each")
-    parser.add_argument("--seed", type=int, default=1000, help="env seed of the first rack")
+    parser.add_argument("--game", choices=("pool", "slingshot"), default="pool")
+    parser.add_argument("--policies", nargs="+", choices=sorted({*POLICIES, *SLINGSHOT_POLICIES}))
+    parser.add_argument("--episodes", type=int, default=20, help="episodes (racks, levels)")
+    parser.add_argument("--seed", type=int, default=1000, help="env seed of the first episode")
     parser.add_argument("--candidates", type=int, default=128, help="the planner's budget")
+    parser.add_argument("--level", choices=("random", "handmade"), default="random",
+                        help="Slingshot2D-v0's levels")  # fmt: skip
     args = parser.parse_args(argv)
     if args.episodes < 1:
         parser.error(f"--episodes must be >= 1, got {args.episodes}")
-    rows = []
-    for name in args.policies:
+    allowed = POLICIES if args.game == "pool" else SLINGSHOT_POLICIES
+    policies = args.policies or list(allowed)
+    if not set(policies) <= set(allowed):
+        parser.error(f"--policies for {args.game} must be among {', '.join(allowed)}")
+    seeds = f"env seeds {args.seed}-{args.seed + args.episodes - 1}"
+    if args.game == "pool":
+        rows = [_run(name, args, Record, play) for name in policies]
+        print(f"Pool2D-v0, the 15-ball rack, at most {MAX_SHOTS} shots; {args.episodes} "
+              f"racks, {seeds}")  # fmt: skip
+        print(table(rows))
+        return
+    rows = [_run(name, args, LaunchRecord, play_slingshot) for name in policies]
+    print(f"Slingshot2D-v0, {args.level} levels, 3 birds; {args.episodes} levels, {seeds}")
+    print(table(rows, SLINGSHOT_HEADER))
+
+
+def _run(name: str, args: argparse.Namespace, kind: type, play_one: Callable) -> list[str]:
+    if args.game == "pool":
         env = gym.make("Pool2D-v0", max_episode_steps=MAX_SHOTS)
-        policy, record = make_policy(name, env, args.seed, args.candidates), Record()
-        for k in range(args.episodes):
-            play(env, policy, args.seed + k, record)
-            print(f"{name}: rack {k + 1}/{args.episodes}, reward {record.rewards[-1]:.1f}",
-                  file=sys.stderr, flush=True)  # fmt: skip
-        rows.append(record.row(name))
-    print(f"Pool2D-v0, the 15-ball rack, at most {MAX_SHOTS} shots; {args.episodes} racks, "
-          f"env seeds {args.seed}-{args.seed + args.episodes - 1}")  # fmt: skip
-    print(table(rows))
+    else:
+        env = gym.make("Slingshot2D-v0", level=args.level)
+    policy, record = make_policy(name, env, args.seed, args.candidates), kind()
+    for k in range(args.episodes):
+        play_one(env, policy, args.seed + k, record)
+        print(f"{name}: episode {k + 1}/{args.episodes}, reward {record.rewards[-1]:.2f}",
+              file=sys.stderr, flush=True)  # fmt: skip
+    return record.row(name)
 
 
 if __name__ == "__main__":

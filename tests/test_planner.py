@@ -1,7 +1,7 @@
-"""The Pool2D planner (``impulse2d.envs.planner``): what it simulates is what the env then
+"""The planners (``impulse2d.envs.planner``): what they simulate is what the env then
 plays (bitwise: the float32 the action space hands on), planning leaves the env's
-position untouched, it clears a rack the ghost-ball player fouls in, and bad arguments
-are refused by name."""
+position untouched, the Pool planner clears a rack the ghost-ball player fouls in, the
+Slingshot planner hits a pig, and bad arguments are refused by name."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 
 import impulse2d  # noqa: F401  (registers the ids)
 from impulse2d.envs.baselines import pool_ghost_ball
-from impulse2d.envs.planner import PoolPlanner
+from impulse2d.envs.planner import PoolPlanner, SlingshotPlanner
 
 
 def test_each_candidate_scores_what_the_env_then_gives():
@@ -78,3 +78,29 @@ def test_bad_arguments_are_refused_by_name(kwargs, message):
 def test_it_plans_for_a_single_pool_env_only():
     with pytest.raises(ValueError, match="env must be a single Pool2D env"):
         PoolPlanner(gym.make("Slingshot2D-v0"))
+
+
+def test_the_slingshot_planner_scores_what_the_env_then_gives():
+    env = gym.make("Slingshot2D-v0", level="handmade")
+    planner = SlingshotPlanner(env, candidates=24)
+    obs, _ = env.reset(seed=4)
+    actions = planner.candidate_actions(np.asarray(obs, np.float64))
+    scores = planner.play(actions)
+    best = int(np.argmax(scores))
+    _, reward, *_ = env.step(actions[best])
+    assert reward == scores[best] and reward >= scores.min()
+
+
+def test_the_slingshot_planner_aims_at_the_pigs():
+    """Its candidates are launches on the parabolas through the pigs: the one it picks
+    on the first hand-made level destroys a pig."""
+    env = gym.make("Slingshot2D-v0", level="handmade")
+    obs, _ = env.reset(seed=0)
+    planner = SlingshotPlanner(env, candidates=36)
+    _, _, _, _, info = env.step(planner(obs))
+    assert info["pigs_destroyed"] >= 1
+
+
+def test_the_slingshot_planner_refuses_speeds_it_cannot_launch():
+    with pytest.raises(ValueError, match="speeds must be in"):
+        SlingshotPlanner(gym.make("Slingshot2D-v0"), speeds=(50.0,))

@@ -37,3 +37,18 @@ def test_run_outs_are_clearances_and_break_and_runs_run_outs():
 def test_no_episodes_is_refused():
     with pytest.raises(SystemExit):
         protocol.main(["--episodes", "0"])
+
+
+def test_the_slingshot_table(capsys):
+    protocol.main(["--game", "slingshot", "--level", "handmade", "--episodes", "1",
+                   "--policies", "ballistic", "planner", "--candidates", "24"])  # fmt: skip
+    out = capsys.readouterr().out
+    rows = {line.split()[0]: line.split() for line in out.splitlines()[3:]}
+    assert set(rows) == {"ballistic", "planner"}
+    for row in rows.values():  # reward (3 cells), cleared, pigs a launch, launches, ms
+        assert row[4] in ("0/1", "1/1") and float(row[6]) >= 1.0
+
+
+def test_a_policy_of_the_other_game_is_refused():
+    with pytest.raises(SystemExit):
+        protocol.main(["--game", "slingshot", "--policies", "ghost"])
