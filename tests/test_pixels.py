@@ -182,3 +182,16 @@ def test_a_body_can_have_a_colour_per_world():
     assert middle.tolist() == [[255, 0, 0], [0, 0, 255]]
     with pytest.raises(ValueError, match=r"rgb must have shape \(3,\) or \(2, 3\)"):
         frames.colour(ball, np.zeros((3, 3)))
+
+
+def test_a_colour_follows_its_body_out_of_the_world_and_back():
+    world = p2.World()
+    first = world.add(p2.Circle(position=(-0.5, 0.0), radius=0.2))
+    frames = Frames(world, 20, 20)
+    frames.colour(first, (255, 0, 0))
+    world.remove(first)
+    other = world.add(p2.Circle(position=(0.5, 0.0), radius=0.2))  # takes the freed slot
+    assert other.slot == 0
+    assert frames()[0, 10, 15].tolist() != [255, 0, 0]  # not the removed body's colour
+    world.add(first)
+    assert frames()[0, 10, 5].tolist() == [255, 0, 0]

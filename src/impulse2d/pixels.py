@@ -57,9 +57,8 @@ class Frames:
         self.left = 0.5 * (x0 + x1) - 0.5 * self.width / self.scale
         self.top = 0.5 * (y0 + y1) + 0.5 * self.height / self.scale
         self.background = background
-        self._own: dict[int, np.ndarray] = {}  # slot: (4,) or (batch_size, 4)
-        self._colours = np.zeros((1, 0, 4))
-        self._colours_for: Any = None
+        # id(body): (body, its colour (4,) or (batch_size, 4): red, green, blue, drawn)
+        self._own: dict[int, tuple[Any, np.ndarray]] = {}
 
     @property
     def background(self) -> np.ndarray:
@@ -94,13 +93,13 @@ class Frames:
         if np.any((colour < 0.0) | (colour > 255.0)):
             raise ValueError(f"rgb must be numbers in [0, 255], got {rgb!r}")
         drawn = np.ones((*colour.shape[:-1], 1))
-        self._own[self._slot(body)] = np.concatenate([colour, drawn], axis=-1)
-        self._colours_for = None
+        self._check_body(body)
+        self._own[id(body)] = (body, np.concatenate([colour, drawn], axis=-1))
 
     def hide(self, body: Any) -> None:
         """Leave ``body`` out of the frames."""
-        self._own[self._slot(body)] = np.zeros(4)
-        self._colours_for = None
+        self._check_body(body)
+        self._own[id(body)] = (body, np.zeros(4))
 
     def __call__(self) -> np.ndarray:
         """Every world's frame, ``(batch_size, height, width, 3)`` uint8."""
@@ -119,19 +118,17 @@ class Frames:
         in_chunks(draw_chunk, batch, chunks, threads)
         return frames
 
-    def _slot(self, body: Any) -> int:
+    def _check_body(self, body: Any) -> None:
         if not any(body is kept for kept in self.world.objects["bodies"]):
             raise ValueError(f"body must be a body of this world, got {body!r}")
-        return int(body.slot)
 
     def _slot_colours(self, shapes: np.ndarray) -> np.ndarray:
-        """(1 or B, N, 4) red, green, blue, drawn: the body's own colour, else the
-        renderer's default for its kind and motion; one row per world where a body has a
-        colour per world."""
-        if self._colours_for is shapes.base and self._colours.shape[1] == len(shapes):
-            return self._colours
+        """(1 or B, N, 4) red, green, blue, drawn: a body's own colour (where it is still
+        in the world, in the slot it has now), else the renderer's default for its kind
+        and motion; one row per world where a body has a colour per world. Built for
+        every drawing: a few slots, against a frame of pixels each."""
         style = Style()
-        per_world = any(own.ndim == 2 for own in self._own.values())
+        per_world = any(own.ndim == 2 for _, own in self._own.values())
         colours = np.zeros((self.world.batch_size if per_world else 1, len(shapes), 4))
         for slot, (kind, motion) in enumerate(shapes):
             default = (
@@ -139,6 +136,8 @@ class Frames:
                 else style.kinematic if motion == KINEMATIC
                 else style.circle if kind == CIRCLE else style.box
             )  # fmt: skip
-            colours[:, slot] = self._own.get(slot, np.array((*default, 1.0)))
-        self._colours, self._colours_for = colours, shapes.base
+            colours[:, slot] = (*default, 1.0)
+        for body, own in self._own.values():
+            if body.slot >= 0:
+                colours[:, body.slot] = own
         return colours

@@ -24,7 +24,16 @@ numba's ``prange``: a parallel kernel compiled in 8 s of every first batched run
 loop is outlined and the whole step linked and optimised again), and numba's threading
 layers (OpenMP cannot start threads in a child forked after it ran them; the workqueue
 layer is not thread-safe) are not involved. A process forked while the helper threads
-exist makes new ones when it first needs them.
+exist makes new ones when it first needs them. ``in_chunks`` is that one way of sharing
+work out, for other compiled calls too (``impulse2d.pixels``).
+
+*A call a step.* ``step_once`` is the call an RL loop makes, ``World.step(dt)``: it keeps
+the arguments of its last compiled call and calls the compiled step's entry point with
+them again while the state's arrays (their ``generation``), the layout and the step
+context are the same objects, without numba's typing and dispatch of every argument.
+
+*The GPU.* On device ``"cuda"`` a call is one launch of ``gpu.advance_worlds``, a
+thread a world (``gpu.launch``); room and refusals are handled here the same way.
 """
 
 from __future__ import annotations
@@ -77,7 +86,7 @@ class Runner:
     def __init__(self, threads: int, device: str = "cpu") -> None:
         self._threads = threads
         self.device = device
-        self._gpu: Any = None  # (the gpu module, its DeviceScratch) on device "cuda"
+        self._gpu: Any = None  # device "cuda": (the gpu module, DeviceScratch, DeviceBuffers)
         self.workspace: Workspace | None = None
         self.pair_capacity = 16
         self._scratch_key: tuple[int, ...] = ()
@@ -87,10 +96,9 @@ class Runner:
         self._undo: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 0)), np.zeros((0, 0), np.int64))
         self._undo_for: tuple[np.ndarray | None, np.ndarray | None] = (None, None)
         self._undo_contacts = 0
+        # step_once's kept call: (state, generation, layout rows, ctx, call, arguments).
         self._fast: tuple = _NO_FAST_PATH
-        self._last_args: tuple | None = (
-            None  # (state, generation, layout rows, ctx, call, arguments)
-        )
+        self._last_args: tuple | None = None  # of the last one-chunk compiled call
 
     @property
     def threads(self) -> int:
