@@ -61,7 +61,7 @@ class ShotPlanner:
         self.game = game
         self.candidates = _checks.int_in("candidates", candidates, 1, 65536)
         self.position_weight = _checks.number_in("position_weight", position_weight, 0.0, 1e3, "")
-        self.rng = np.random.default_rng(seed)
+        self.rng = np.random.default_rng(_checks.int_in("seed", seed, 0, 2**63 - 1, "2**63 - 1"))
         self.table = self._table(game, self.candidates)
 
     def __call__(self, observation: Any) -> np.ndarray:
@@ -126,8 +126,8 @@ class PoolPlanner(ShotPlanner):
         position_weight: float = 0.5,
         seed: int = 0,
     ) -> None:
-        self.speeds = tuple(_checks.positive("speeds", s) for s in speeds)
-        self.turns = tuple(_checks.finite_scalar("turns", t) for t in turns)
+        self.speeds = tuple(_checks.positive("speeds", s) for s in _sequence("speeds", speeds))
+        self.turns = _sequence("turns", turns)
         super().__init__(env, candidates, position_weight, seed)
         self.pairs = max(1, self.candidates // (len(self.speeds) * len(self.turns)))
 
@@ -171,9 +171,10 @@ class SlingshotPlanner(ShotPlanner):
         seed: int = 0,
     ) -> None:
         self.speeds = tuple(
-            _checks.number_in("speeds", v, *slingshot.SPEED_RANGE, " m/s") for v in speeds
+            _checks.number_in("speeds", v, *slingshot.SPEED_RANGE, " m/s")
+            for v in _sequence("speeds", speeds)
         )
-        self.turns = tuple(_checks.finite_scalar("turns", t) for t in turns)
+        self.turns = _sequence("turns", turns)
         super().__init__(env, candidates, 0.0, seed)
 
     def _table(self, game: Any, count: int) -> Any:
@@ -198,6 +199,14 @@ class SlingshotPlanner(ShotPlanner):
                         aim = range_to_action(angle + turn, slingshot.ANGLE_RANGE)
                         listed.append(np.array([aim, strength]))
         return self._filled(listed)
+
+
+def _sequence(name: str, values: Any) -> tuple[float, ...]:
+    """A non-empty sequence of finite numbers, as floats."""
+    array = _checks.real_array(name, values)
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{name} must be a non-empty sequence of numbers, got {values!r}")
+    return tuple(float(v) for v in array)
 
 
 def _turned(aim: np.ndarray, turn: float) -> np.ndarray:

@@ -169,6 +169,8 @@ def test_bad_colours_and_strangers_are_refused_by_name():
         frames.colour(ball, (-1, 0, 0))
     with pytest.raises(ValueError, match="rgb must have shape"):
         frames.colour(ball, (1, 2))
+    with pytest.raises(ValueError, match="world must be an impulse2d World"):
+        Frames("world")
     with pytest.raises(ValueError, match="body must be a body of this world"):
         frames.hide(p2.World().add(p2.Circle()))
 

@@ -68,6 +68,11 @@ def test_it_clears_a_rack_the_ghost_ball_player_fouls_in():
         ({"speeds": (1.0, -1.0)}, "speeds must be"),
         ({"turns": (np.nan,)}, "turns must be finite"),
         ({"position_weight": -1.0}, "position_weight must be in"),
+        ({"speeds": ()}, "speeds must be a non-empty sequence"),
+        ({"speeds": 5.0}, "speeds must be a non-empty sequence"),
+        ({"turns": "x"}, "turns must be"),
+        ({"seed": -1}, "seed must be in"),
+        ({"seed": 1.5}, "seed must be an int"),
     ],
 )
 def test_bad_arguments_are_refused_by_name(kwargs, message):

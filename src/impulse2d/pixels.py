@@ -18,7 +18,7 @@ look at, with springs, contacts and overlays; this draws what an agent sees, fas
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -27,9 +27,7 @@ from .core import raster
 from .core.runner import in_chunks
 from .core.state import CIRCLE, FIXED, KINEMATIC
 from .render import Style
-
-if TYPE_CHECKING:
-    from .world import World
+from .world import World
 
 _CHUNKS_PER_THREAD = 8
 
@@ -45,6 +43,8 @@ class Frames:
         view: Any = ((-1.0, -1.0), (1.0, 1.0)),
         background: Any = (0, 0, 0),
     ) -> None:
+        if not isinstance(world, World):
+            raise ValueError(f"world must be an impulse2d World, got {world!r}")
         self.world = world
         self.width = _checks.int_in("width", width, 1, 4096)
         self.height = _checks.int_in("height", height, 1, 4096)
