@@ -25,7 +25,6 @@ import numpy as np
 from . import _checks
 from .core import raster
 from .core.runner import in_chunks
-from .core.state import CIRCLE, FIXED, KINEMATIC
 from .render import Style
 from .world import World
 
@@ -131,12 +130,8 @@ class Frames:
         per_world = any(own.ndim == 2 for _, own in self._own.values())
         colours = np.zeros((self.world.batch_size if per_world else 1, len(shapes), 4))
         for slot, (kind, motion) in enumerate(shapes):
-            default = (
-                style.fixed if motion == FIXED
-                else style.kinematic if motion == KINEMATIC
-                else style.circle if kind == CIRCLE else style.box
-            )  # fmt: skip
-            colours[:, slot] = (*default, 1.0)
+            colours[:, slot, :3] = style.colour_of(slot, kind, motion)
+        colours[..., 3] = 1.0
         for body, own in self._own.values():
             if body.slot >= 0:
                 colours[:, body.slot] = own
