@@ -23,9 +23,10 @@ lin_0.2``) falls linearly from 5e-4 at the start of training to 0 at the end. SB
 schedule with ``progress_remaining`` (1 at the start, 0 at the end), so the value is
 ``progress_remaining * 5e-4``.
 
-``activation_fn`` is written by name (``tanh``, ``relu``, ``elu``, ``leaky_relu``); it
-is turned into the torch class only when the model is built, so the resolved config
-written to a run directory stays plain YAML.
+``activation_fn`` is written by name (``tanh``, ``relu``, ``elu``, ``leaky_relu``), and
+so is an image task's ``features_extractor_class`` (``NatureCNN``, ``ShotCNN``); each is
+turned into its class only when the model is built, so the resolved config written to a
+run directory stays plain YAML.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ RUN_KEYS = (
     "policy",
 )
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
+FEATURE_EXTRACTORS = ("NatureCNN", "ShotCNN")  # by name: SB3's, and agents._cnn's
 SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 
@@ -240,10 +242,12 @@ def _check_algo_kwargs(algo: str, kwargs: dict[str, Any]) -> None:
     activation = policy_kwargs.get("activation_fn")
     if activation is not None and activation not in ACTIVATIONS:
         raise ValueError(f"policy_kwargs.activation_fn must be one of {ACTIVATIONS}")
-    if "features_extractor_class" in policy_kwargs:
+    extractor = policy_kwargs.get("features_extractor_class")
+    if extractor is not None and extractor not in FEATURE_EXTRACTORS:
         raise ValueError(
-            "policy_kwargs.features_extractor_class is not taken: a task's features are part "
-            "of its observation (the call-shot ids, impulse2d.envs.callshot)"
+            f"policy_kwargs.features_extractor_class must be one of {FEATURE_EXTRACTORS} "
+            f"(the image encoders; a state task's features are part of its observation), "
+            f"got {extractor!r}"
         )
 
 
@@ -291,6 +295,14 @@ def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     if isinstance(policy_kwargs.get("activation_fn"), str):
         names = {"tanh": nn.Tanh, "relu": nn.ReLU, "elu": nn.ELU, "leaky_relu": nn.LeakyReLU}
         policy_kwargs["activation_fn"] = names[policy_kwargs["activation_fn"]]
+    if isinstance(policy_kwargs.get("features_extractor_class"), str):
+        from stable_baselines3.common.torch_layers import NatureCNN
+
+        from agents._cnn import ShotCNN
+
+        classes = {"NatureCNN": NatureCNN, "ShotCNN": ShotCNN}
+        name = policy_kwargs["features_extractor_class"]
+        policy_kwargs["features_extractor_class"] = classes[name]
     return kwargs
 
 

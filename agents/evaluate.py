@@ -37,11 +37,19 @@ from . import _config, _media, _tasks
 from ._kernels import add_kernels_option, one_torch_thread, pin_torch_kernels
 
 POLICIES = ("trained", "random", "scripted")
+RANDOM_CALL_SHOT = "random_call_shot"  # uniform actions of a call-shot id's own space
 
 
 def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
     """The trained agent of a run directory as a batch policy (observations -> env
     actions, deterministic), and the run's config."""
+    model, normalizer, config = load_model(run_dir)
+    return agent_policy(model, normalizer), config
+
+
+def load_model(run_dir: str | Path) -> tuple[Any, Any, dict[str, Any]]:
+    """The SB3 model of a run directory, its ``VecNormalize`` (None if the run did not
+    normalize) and the run's config."""
     import torch
 
     torch.set_num_threads(1)
@@ -57,8 +65,7 @@ def load_policy(run_dir: str | Path) -> tuple[_tasks.Policy, dict[str, Any]]:
         with open(stats, "rb") as file:  # our own file, written by agents.train
             normalizer = pickle.load(file)
         normalizer.training = False
-
-    return agent_policy(model, normalizer), config
+    return model, normalizer, config
 
 
 def agent_policy(model: Any, normalizer: Any = None) -> _tasks.Policy:
@@ -74,10 +81,21 @@ def agent_policy(model: Any, normalizer: Any = None) -> _tasks.Policy:
     return policy
 
 
-def random_policy(seed: int) -> _tasks.Policy:
-    """Uniform actions in [-1, 1]^2 from a generator seeded ``seed``."""
+def random_policy(seed: int, size: int = 2) -> _tasks.Policy:
+    """Uniform actions in [-1, 1]^size from a generator seeded ``seed``."""
     rng = np.random.default_rng(seed)
-    return lambda obs: rng.uniform(-1.0, 1.0, (len(obs), 2)).astype(np.float32)
+    return lambda obs: rng.uniform(-1.0, 1.0, (len(obs), size)).astype(np.float32)
+
+
+def _own_action_size(env_id: str) -> int | None:
+    """The action size of a call-shot id (None for a game's own id)."""
+    from impulse2d.envs import CALL_SHOT_IDS
+    from impulse2d.envs.callshot import POOL_TASK, SLINGSHOT_TASK
+
+    if env_id not in CALL_SHOT_IDS:
+        return None
+    pool = CALL_SHOT_IDS[env_id][0] == "Pool2D-v0"
+    return (POOL_TASK if pool else SLINGSHOT_TASK).action_size
 
 
 def evaluate(
@@ -109,13 +127,19 @@ def evaluate(
     trained_on = config["env_kwargs"]
     env_kwargs = {**trained_on, **config.get("eval_env_kwargs", {}), **(env_kwargs or {})}
     players = {"trained": trained, "random": random_policy(seed), "scripted": task.scripted}
+    own_action = _own_action_size(config["env_id"])
+    if own_action is not None:  # what the call-shot action gives without learning
+        players[RANDOM_CALL_SHOT] = random_policy(seed, own_action)
     rows = {}
     for name, policy in players.items():
-        # The agent on its own id; the others on the game under it, in the game's actions.
+        # The agent on its own id; the others on the game under it, in the game's actions,
+        # observing its state: the scripted players read positions, not images (the
+        # episodes are the same ones whatever is observed).
+        game_play = {**game_kwargs, **_episode_limit(config["env_id"]), **env_kwargs}
         env_id, kwargs = (
             (config["env_id"], env_kwargs)
-            if name == "trained"
-            else (game_id, {**game_kwargs, **_episode_limit(config["env_id"]), **env_kwargs})
+            if name in ("trained", RANDOM_CALL_SHOT)
+            else (game_id, _state_kwargs(game_play))
         )
         record = _tasks.play_episodes(env_id, kwargs, policy, episodes, seed)
         rows[name] = _tasks.summarize(task, record)
@@ -170,6 +194,11 @@ def _skip_before(run_dir: Path) -> int:
     return config["n_envs"] * _episode_cap(config["env_id"], config["env_kwargs"])
 
 
+def _state_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
+    """``kwargs`` observing the game's state (without ``obs_type`` and ``pixel_size``)."""
+    return {k: v for k, v in kwargs.items() if k not in ("obs_type", "pixel_size")}
+
+
 def _episode_limit(env_id: str) -> dict[str, int]:
     """``{"max_episode_steps": n}`` of a registered id, for playing the game under it with
     the same episode length (empty if the id sets none)."""
@@ -193,10 +222,13 @@ def _episode_cap(env_id: str, env_kwargs: dict[str, Any]) -> int:
 def _targets(task: _tasks.Task, rows: dict[str, Any]) -> dict[str, Any]:
     """Each of the task's targets (definitions in agents/README.md), met or not."""
     out = {}
-    for target in task.targets:
+    targets = list(task.targets)
+    if RANDOM_CALL_SHOT in rows:  # the action alone is no learning: twice what it scores
+        targets.append(_tasks.Target("beats_random_call_shot_2x", "reward", 2.0, RANDOM_CALL_SHOT))
+    for target in targets:
         trained = rows["trained"][target.metric]["mean"]
         needed = target.factor * rows[target.against][target.metric]["mean"]
-        met = trained >= needed and (target.against != "random" or trained > 0)
+        met = trained >= needed and (not target.against.startswith("random") or trained > 0)
         out[target.name] = {
             "metric": target.metric,
             "trained": trained,
@@ -227,7 +259,10 @@ def format_table(results: dict[str, Any]) -> str:
         "| policy | " + " | ".join(labels.values()) + " |",
         "|---|" + "---|" * len(labels),
     ]
-    for key in POLICIES:
+    names[RANDOM_CALL_SHOT] = "random call-shot actions"
+    for key in [*POLICIES, RANDOM_CALL_SHOT]:
+        if key not in results["policies"]:
+            continue
         row = results["policies"][key]
         cells = []
         for metric in labels:

@@ -26,10 +26,23 @@ VARIANTS = {
 CALL_SHOT_IDS = {
     "Pool2DCallShot-v0": ("Pool2D-v0", {"num_balls": 1, "layout": "random"}, 5),
     "Pool2DRackCallShot-v0": ("Pool2D-v0", {"num_balls": 15, "layout": "rack"}, 30),
+    # The first task seen, not told: the table as a 64 x 64 image, no features.
+    "Pool2DPixelsCallShot-v0": (
+        "Pool2D-v0",
+        {"num_balls": 1, "layout": "random", "obs_type": "pixels", "pixel_size": 64},
+        5,
+    ),
     "Slingshot2DCallShot-v0": ("Slingshot2D-v0", {"level": "handmade"}, 10),
     "Slingshot2DGeneratedCallShot-v0": (
         "Slingshot2D-v0",
         {"level": "random", "num_levels": 4000},
+        10,
+    ),
+    # PHYRE's task: one bird a level, of the seven train templates (envs/_templates.py);
+    # agents.protocol scores it on unseen levels of those and on the held-out templates.
+    "Slingshot2DTemplatesCallShot-v0": (
+        "Slingshot2D-v0",
+        {"level": "templates", "templates": "train", "num_levels": 4000, "num_birds": 1},
         10,
     ),
 }

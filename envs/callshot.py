@@ -43,6 +43,10 @@ The ballistic player is a single action of Slingshot's space (the nearest pig, t
 arc, full speed, no trim); the ghost-ball player's pocket is one of Pool's, at its own
 speed rule rather than the window's.
 
+With ``obs_type="pixels"`` (both games) the observation is the game's image alone, no
+features: what the call-shot action names (the pocket, the pig) must be read from the
+frame, as a vision agent learns to (``Pool2DPixelsCallShot-v0``).
+
 An action is computed from the game's current position (read from the game itself, not
 from the last observation returned), so a position brought back with the wrapped env's
 ``restore_state`` is played from exactly.
@@ -345,11 +349,6 @@ class _Task:
                 f"env must be a {self.game.__name__[:-4]}2D env (gym.make of Pool2D-v0 or "
                 f"Slingshot2D-v0), got {env.unwrapped!r}"
             )
-        if getattr(env.unwrapped, "obs_type", "state") != "state":
-            raise ValueError(
-                f"obs_type must be 'state' for {self.name} (its observations are features "
-                f"of the state), got {env.unwrapped.obs_type!r}"
-            )
         return game
 
 
@@ -367,11 +366,18 @@ class _CallShot(gym.Wrapper):
     def __init__(self, env: gym.Env) -> None:
         super().__init__(env)
         self._game = self.task.check(env)
-        self.observation_space = self.task.observation_space(env.observation_space)
+        self._pixels = env.unwrapped.obs_type == "pixels"  # images pass as they are
+        self.observation_space = (
+            env.observation_space
+            if self._pixels
+            else self.task.observation_space(env.observation_space)
+        )
         self.action_space = gym.spaces.Box(-1.0, 1.0, (self.task.action_size,), np.float32)
 
     def observation(self, raw: Any) -> np.ndarray:
         """The call-shot observation of one game observation."""
+        if self._pixels:
+            return raw
         return self.task.observe(np.asarray(raw, np.float32).reshape(1, -1))[0]
 
     def reset(self, **kwargs: Any) -> tuple[np.ndarray, dict[str, Any]]:
@@ -402,7 +408,11 @@ class _CallShotVector(gym.vector.VectorWrapper):
     def __init__(self, env: gym.vector.VectorEnv) -> None:
         super().__init__(env)
         self._game = self.task.check(env)
-        self.single_observation_space = self.task.observation_space(env.single_observation_space)
+        self._pixels = env.unwrapped.obs_type == "pixels"  # images pass as they are
+        single = env.single_observation_space
+        self.single_observation_space = (
+            single if self._pixels else self.task.observation_space(single)
+        )
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self.task.action_size,), np.float32)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -413,6 +423,8 @@ class _CallShotVector(gym.vector.VectorWrapper):
 
     def observation(self, raw: Any) -> np.ndarray:
         """The call-shot observations of game observations ``(n, size)``."""
+        if self._pixels:
+            return raw
         return self.task.observe(np.asarray(raw, np.float32).reshape(len(raw), -1))
 
     def reset(self, **kwargs: Any) -> tuple[np.ndarray, dict[str, Any]]:

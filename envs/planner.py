@@ -181,7 +181,7 @@ class SlingshotPlanner(ShotPlanner):
         return slingshot.SlingshotGame(
             count, level=game.level, num_birds=game.num_birds,
             max_shot_seconds=game.max_shot_steps * game.dt, num_levels=game.num_levels,
-            start_level=game.start_level,
+            start_level=game.start_level, templates=game.templates or None,
         )  # fmt: skip
 
     def candidate_actions(self, row: np.ndarray) -> np.ndarray:

@@ -13,7 +13,7 @@ from impulse2d import _raster as raster
 from impulse2d.pixels import Frames
 from impulse2d.render import Camera, Renderer, Style
 
-from . import _levels
+from . import _levels, _templates
 from ._core import (
     Info,
     ShotGame,
@@ -77,10 +77,12 @@ class SlingshotGame(ShotGame):
         num_levels: int = 0,
         start_level: int = 0,
         device: str = "cpu",
+        templates: Any = None,
     ) -> None:
         batch_size = check_num_envs(batch_size)
-        self.level = _checks.word("level", level, ("random", "handmade", *_levels.HANDMADE))
+        self.level = _checks.word("level", level, LEVELS)
         self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
+        self.templates = _template_choice(self.level, templates)
         self.num_birds = _checks.int_in("num_birds", num_birds, 1, 10)
         max_shot_steps = shot_steps(max_shot_seconds, DT)
         world, self.bird, self.pigs, self.blocks = self._build(batch_size, device)
@@ -164,6 +166,9 @@ class SlingshotGame(ShotGame):
 
     # -- episodes ----------------------------------------------------------------------------------
     def _pick_level(self, rng: np.random.Generator) -> _levels.Level:
+        if self.level == "templates":
+            seed = self.start_level + int(rng.integers(self.num_levels or 2**62))
+            return _templates.template_level(self.templates, seed)
         if self.level == "random" and self.num_levels:
             seed = self.start_level + int(rng.integers(self.num_levels))
             return _levels.random_level(np.random.default_rng(seed), MAX_BLOCKS, MAX_PIGS)
@@ -182,7 +187,7 @@ class SlingshotGame(ShotGame):
             built = self._build_level(level)
             # A level's build is a function of the level alone, so keeping it changes no
             # result; only levels that come back are kept (hand-made, or a fixed set).
-            if level.name in _levels.HANDMADE or self.num_levels:
+            if self.num_levels or self.level not in ("random", "templates"):
                 if len(self._built) >= LEVEL_CACHE:
                     del self._built[next(iter(self._built))]
                 self._built[key] = built
@@ -426,6 +431,19 @@ def _sling(canvas: np.ndarray, to_pixels: Any, scale: float) -> None:
         raster.segment(canvas, x1, y1, x2, y2, width, wood)
 
 
+LEVELS = ("random", "handmade", "templates", *_levels.HANDMADE)
+
+
+def _template_choice(level: str, templates: Any) -> tuple[str, ...]:
+    """The templates of ``level="templates"`` (``None``: the train split); none for the
+    other levels, where naming templates is refused rather than ignored."""
+    if level != "templates":
+        if templates is not None:
+            raise ValueError(f"templates needs level='templates', got level={level!r}")
+        return ()
+    return _templates.template_names("train" if templates is None else templates)
+
+
 def _level_seeds(level: str, num_levels: Any, start_level: Any) -> tuple[int, int]:
     """Checked ``(num_levels, start_level)``: Procgen's two numbers for the set of
     generated levels, ``start_level ... start_level + num_levels - 1`` (0 levels: no set,
@@ -433,8 +451,10 @@ def _level_seeds(level: str, num_levels: Any, start_level: Any) -> tuple[int, in
     for name, value in (("num_levels", num_levels), ("start_level", start_level)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
             raise ValueError(f"{name} must be an int >= 0, got {value!r}")
-    if (num_levels or start_level) and level != "random":
-        raise ValueError(f"num_levels and start_level need level='random', got level={level!r}")
+    if (num_levels or start_level) and level not in ("random", "templates"):
+        raise ValueError(
+            f"num_levels and start_level need level='random' or 'templates', got level={level!r}"
+        )
     if start_level and not num_levels:
         raise ValueError(f"start_level needs num_levels > 0, got start_level={start_level}")
     if num_levels >= 2**63:  # the draw is an int64
@@ -501,8 +521,12 @@ class Slingshot2DEnv(ShotEnv):
     `level="random"`: a procedural level from the episode's generator (one to three
     towers, pyramids or columns in random materials, one to four pigs on, in or behind
     them). `level="handmade"`: one of the hand-made levels at random; or a hand-made level
-    by name: `"table"`, `"tower"`, `"fortress"`, `"wall"`, `"twin-towers"`. Everything
-    starts at rest.
+    by name: `"table"`, `"tower"`, `"fortress"`, `"wall"`, `"twin-towers"`.
+    `level="templates"`: a level of one of the level templates `templates` (families of
+    structure with their own generators, `impulse2d.envs._templates`: `"train"`, the
+    seven an agent may train on, by default; `"held-out"`, the three kept from training;
+    `"all"`; or template names); level seed `k` is template `k mod n` of them, its
+    parameters drawn from a generator seeded `k`. Everything starts at rest.
 
     Generated levels as in Procgen: with `num_levels=n > 0`, each episode draws a level
     seed `k` from `start_level ... start_level + n - 1` and plays the level that a
@@ -522,15 +546,18 @@ class Slingshot2DEnv(ShotEnv):
     ## Arguments
     ```python
     gym.make("Slingshot2D-v0", level="random", num_birds=3, max_shot_seconds=10.0,
-             num_levels=0, start_level=0, render_mode=None)
+             num_levels=0, start_level=0, templates=None, render_mode=None)
     gym.make_vec("Slingshot2D-v0", num_envs=256, vectorization_mode="vector_entry_point",
                  threads=None, device="cpu", obs_type="state", pixel_size=84)
     ```
-    * `level`: `"random"`, `"handmade"` or a hand-made level's name (see Starting State).
+    * `level`: `"random"`, `"handmade"`, a hand-made level's name or `"templates"` (see
+      Starting State).
+    * `templates` (with `level="templates"`): a split, `"train"` (default), `"held-out"`
+      or `"all"`, or a sequence of template names.
     * `num_birds` (1-10): birds per level.
-    * `num_levels`, `start_level` (ints >= 0, with `level="random"`): the generated levels
-      to draw from, seeds `start_level` to `start_level + num_levels - 1` (see Starting
-      State); 0 levels: any.
+    * `num_levels`, `start_level` (ints >= 0, with `level="random"` or `"templates"`): the
+      generated levels to draw from, seeds `start_level` to `start_level + num_levels - 1`
+      (see Starting State); 0 levels: any.
     * `max_shot_seconds` (in (0, 3600] s): simulated time after which a launch is
       stopped where it stands (at least one physics step).
     * `num_envs` (vector env, 1 to 1,000,000): worlds stepped together.

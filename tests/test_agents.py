@@ -58,6 +58,22 @@ def _progress(run_dir: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(file))
 
 
+def test_the_pixel_task_trains_its_cnn_on_the_frames(tmp_path: Path) -> None:
+    """Pool2DPixelsCallShot-v0 trains agents._cnn.ShotCNN on 64 x 64 frames (SB3 puts
+    channels first), and its evaluation plays the agent on frames, the others on state."""
+    from agents import evaluate
+    from agents._cnn import ShotCNN
+
+    run_dir = _train(tmp_path / "run", "Pool2DPixelsCallShot-v0", "ppo", 32)
+    model = _config.algo_class("ppo").load(str(run_dir / "model.zip"), device="cpu")
+    assert isinstance(model.policy.features_extractor, ShotCNN)
+    assert model.observation_space.shape == (3, 64, 64)
+    results = evaluate.evaluate(run_dir, episodes=4, video=None)
+    assert set(results["policies"]) == {"trained", "random", "scripted", "random_call_shot"}
+    # the scripted player read positions: it pots as it does on the state task
+    assert results["policies"]["scripted"]["potted"]["mean"] >= 0.75
+
+
 def _params(run_dir: Path, algo: str) -> list[np.ndarray]:
     model = _config.algo_class(algo).load(str(run_dir / "model.zip"), device="cpu")
     return [p.detach().numpy().copy() for p in model.policy.parameters()]
@@ -135,14 +151,17 @@ def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]
     run_dir, results = evaluated
     on_disk = json.loads((run_dir / "results.json").read_text())
     assert on_disk == json.loads(json.dumps(results))
-    assert set(on_disk["policies"]) == {"trained", "random", "scripted"}
+    assert set(on_disk["policies"]) == {"trained", "random", "scripted", "random_call_shot"}
     for row in on_disk["policies"].values():
         assert set(row) == set(on_disk["metrics"])
         assert all(set(cell) == {"mean", "std"} for cell in row.values())
     assert on_disk["episodes"] == 6 and on_disk["episode_seeds"] == [1000, 1005]
     assert set(on_disk["targets"]) == {
         "beats_random_2x", "half_of_scripted", "pots_half_of_scripted", "matches_scripted",
+        "beats_random_call_shot_2x",
     }  # fmt: skip
+    # Random actions of the call-shot id's own space are played on the id: 8 numbers.
+    assert on_disk["policies"]["random_call_shot"]["shots"]["mean"] >= 1
     # The scripted player pots nearly every ball; the table must show it.
     scripted, random = on_disk["policies"]["scripted"], on_disk["policies"]["random"]
     assert scripted["potted"]["mean"] > random["potted"]["mean"]
@@ -152,7 +171,7 @@ def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]
     assert columns == EXPECTED_COLUMNS["Pool2DCallShot-v0"]
     rows = [line for line in table if line.startswith("| ") and "---" not in line][1:]
     assert [r.split("|")[1].strip() for r in rows] == [
-        "trained PPO", "random", "scripted (ghost ball)",
+        "trained PPO", "random", "scripted (ghost ball)", "random call-shot actions",
     ]  # fmt: skip
     assert all(len(r.strip("|").split("|")) == len(on_disk["metrics"]) + 1 for r in rows)
     assert (run_dir / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -211,8 +230,14 @@ def test_shipped_hyperparameters_resolve(algo: str, env: str) -> None:
     config = _config.resolve(algo, env)
     assert config["entry"] == env and config["env_id"] == env.partition("/")[0]
     assert config["n_timesteps"] > 0 and config["n_envs"] > 0
-    assert "env_kwargs" in config and config["policy"] == "MlpPolicy"
+    from impulse2d.envs import base_game
+
+    # Image tasks take the CNN policy, every other task the MLP one.
+    pixels = base_game(config["env_id"])[1].get("obs_type") == "pixels"
+    assert "env_kwargs" in config and config["policy"] == ("CnnPolicy" if pixels else "MlpPolicy")
     assert "gamma" in config["hyperparams"]
+    built = _config.algo_kwargs(config)["policy_kwargs"]
+    assert ("features_extractor_class" in built) == pixels
 
 
 @pytest.mark.parametrize(
@@ -235,6 +260,10 @@ def test_shipped_hyperparameters_resolve(algo: str, env: str) -> None:
         (["--config", "/nonexistent.yml"], "config: no such file"),
         (["--resume", "/nonexistent/model.zip"], "resume: no model file"),
         (["--seed", "-1"], "seed must be an int >= 0"),
+        (
+            ["--hyperparams", "policy_kwargs={features_extractor_class: ResNet}"],
+            "policy_kwargs.features_extractor_class must be one of ('NatureCNN', 'ShotCNN')",
+        ),
     ],
 )
 def test_bad_training_input_names_the_parameter(

@@ -109,6 +109,30 @@ def test_sb3_ppo_with_the_cnn_policy_learns_a_few_steps():
 
 
 @pytest.mark.parametrize("env_id", ["Pool2DCallShot-v0", "Slingshot2DCallShot-v0"])
-def test_the_call_shot_tasks_refuse_pixels(env_id):
-    with pytest.raises(ValueError, match="obs_type must be 'state' for"):
-        gym.make(env_id, obs_type="pixels")
+def test_the_call_shot_tasks_see_pixels_and_play_the_same_game(env_id):
+    """With pixels a call-shot env observes the game's frames (no features), and its
+    actions play exactly the shots they play with state observations."""
+    venvs = [
+        gym.make_vec(env_id, 3, vectorization_mode="vector_entry_point", obs_type=kind)
+        for kind in ("state", "pixels")
+    ]
+    state, pixels = venvs
+    assert pixels.single_observation_space == gym.spaces.Box(0, 255, (84, 84, 3), np.uint8)
+    assert state.single_observation_space.shape != pixels.single_observation_space.shape
+    _, _ = state.reset(seed=5)
+    frames, _ = pixels.reset(seed=5)
+    assert frames.shape == (3, 84, 84, 3) and frames.dtype == np.uint8
+    np.testing.assert_array_equal(frames, pixels.unwrapped.game.pixels(84))
+    rng = np.random.default_rng(0)
+    for _ in range(2):
+        actions = rng.uniform(-1, 1, (3, *state.single_action_space.shape)).astype(np.float32)
+        a = state.step(actions)
+        b = pixels.step(actions)
+        np.testing.assert_array_equal(a[1], b[1])  # rewards
+        np.testing.assert_array_equal(a[2], b[2])
+        np.testing.assert_array_equal(
+            state.unwrapped.game.world.array("pose"), pixels.unwrapped.game.world.array("pose")
+        )
+    single = gym.make(env_id, obs_type="pixels", pixel_size=32)
+    frame, _ = single.reset(seed=1)
+    assert frame.shape == (32, 32, 3) and single.observation_space.contains(frame)

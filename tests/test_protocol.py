@@ -1,10 +1,12 @@
-"""The Pool protocol command (``agents.protocol``): its table for a rack where the
+"""The protocol command (``agents.protocol``): the Pool table for a rack where the
 ghost-ball player fouls and the planner runs out, and its bookkeeping (a run-out is a
-clearance, a break-and-run a run-out)."""
+clearance, a break-and-run a run-out); the Slingshot tables; the template tasks'
+attempts, success@k and AUCCESS; a trained agent's row."""
 
 from __future__ import annotations
 
 import gymnasium as gym
+import numpy as np
 import pytest
 from agents import protocol
 
@@ -24,7 +26,7 @@ def test_the_table_scores_the_rack_as_played(capsys):
 
 def test_run_outs_are_clearances_and_break_and_runs_run_outs():
     env = gym.make("Pool2D-v0", max_episode_steps=protocol.MAX_SHOTS)
-    for name in protocol.POLICIES:
+    for name in ("random", "ghost", "planner"):  # the agent: test_a_trained_agent_...
         record = protocol.Record()
         policy = protocol.make_policy(name, env, 0, 32)
         for seed in (1000, 1001):
@@ -52,3 +54,76 @@ def test_the_slingshot_table(capsys):
 def test_a_policy_of_the_other_game_is_refused():
     with pytest.raises(SystemExit):
         protocol.main(["--game", "slingshot", "--policies", "ghost"])
+
+
+# -- Slingshot templates: PHYRE's attempts, success@k and AUCCESS ------------------------------
+def test_auccess_is_phyres_weighted_area():
+    """AUCCESS = sum_k w_k s_k / sum_k w_k, w_k = log(k + 1) - log(k): worked by hand for
+    two attempts (w_1 = log 2, w_2 = log 3 - log 2, sum log 3)."""
+    assert protocol.auccess([1, 1, 1], 10) == pytest.approx(1.0)
+    assert protocol.auccess([0, 0], 10) == 0.0
+    # tasks solved at attempts 1 and 2, one never: s_1 = 1/3, s_2 = 2/3
+    expected = (np.log(2) / 3 + (np.log(3) - np.log(2)) * 2 / 3) / np.log(3)
+    assert protocol.auccess([1, 2, 0], 2) == pytest.approx(expected)
+    # solving later counts less: the same success@10, lower AUCCESS
+    assert protocol.auccess([1, 0], 10) > protocol.auccess([10, 0], 10) > 0
+
+
+def test_a_task_stops_at_its_first_success():
+    env = gym.make("Slingshot2D-v0", level="templates", templates=["tower"], num_levels=1,
+                   start_level=3, num_birds=1)  # fmt: skip
+    record = protocol.AttemptRecord(attempts=5)
+    planner = protocol.make_policy("planner", env, 0, 32)
+    calls = []
+
+    def two_duds_then_the_planner(obs):  # a dud lands 3 m from the sling: no damage
+        calls.append(obs)
+        return np.array([-1.0, -1.0], np.float32) if len(calls) <= 2 else planner(obs)
+
+    protocol.play_task(env, two_duds_then_the_planner, "tower", 0, record)
+    assert record.solved_at == [3] and record.launches == 3 and record.first_rewards == [0.0]
+    assert record.success(2) == 0.0 and record.success(3) == record.success(5) == 1.0
+
+
+def test_the_template_table(capsys):
+    protocol.main(["--game", "slingshot", "--level", "templates", "--split", "held-out",
+                   "--episodes", "3", "--attempts", "2", "--policies", "ballistic", "planner",
+                   "--candidates", "48"])  # fmt: skip
+    out = capsys.readouterr().out.splitlines()
+    assert (
+        "split held-out (wall, castle, stairs)" in out[0]
+        and "level seeds 1000000-1000002" in out[0]
+    )
+    rows = {line.split()[0]: line.split() for line in out[3:5]}
+    ballistic, planner = rows["ballistic"], rows["planner"]
+    # deterministic: success@2 = success@1; the planner clears what it simulates
+    assert ballistic[1] == ballistic[2] and float(planner[2]) >= float(planner[1]) > 0.5
+    assert out[7].split() == ["policy", "wall", "castle", "stairs"]
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--game", "slingshot", "--level", "templates", "--attempts", "0"],
+        ["--policies", "agent"],  # no --model
+        ["--policies", "ghost", "--model", "runs/x"],  # --model without the agent
+    ],
+)
+def test_bad_protocol_options_are_refused(argv):
+    with pytest.raises(SystemExit):
+        protocol.main(argv)
+
+
+def test_a_trained_agent_plays_its_own_task_and_no_other(tmp_path):
+    """--model must have trained on a task of the chosen game (its observations and
+    actions are that task's)."""
+    from agents import train
+
+    run = tmp_path / "run"
+    train.main(["--env", "Slingshot2DCallShot-v0", "--timesteps", "32", "--num-envs", "4",
+                "--run-dir", str(run), "--no-progress-bar", "--no-evaluate", "--hyperparams",
+                "n_steps=8", "batch_size=32", "n_epochs=1"])  # fmt: skip
+    with pytest.raises(ValueError, match="--model must be a run trained on Pool2DRackCallShot-v0"):
+        protocol.main(["--policies", "agent", "--model", str(run), "--episodes", "1"])
+    protocol.main(["--game", "slingshot", "--level", "handmade", "--policies", "agent",
+                   "--model", str(run), "--episodes", "1"])  # fmt: skip

@@ -379,7 +379,10 @@ def test_default_levels_come_from_the_episode_generator():
         ({"num_levels": 2**63}, "num_levels must be < 2\\*\\*63"),
         ({"num_levels": 5, "start_level": -3}, "start_level must be an int >= 0, got -3"),
         ({"start_level": 7}, "start_level needs num_levels > 0"),
-        ({"level": "handmade", "num_levels": 5}, "need level='random', got level='handmade'"),
+        (
+            {"level": "handmade", "num_levels": 5},
+            "need level='random' or 'templates', got level='handmade'",
+        ),
     ],
 )
 def test_level_sets_refuse_bad_values_by_name(options, message):
