@@ -106,6 +106,14 @@ class Record:
             f"{1e3 * self.seconds_choosing / shots:.1f}",
         ]
 
+    def values(self) -> list[float]:
+        """The row's numbers (counts of episodes as fractions), for a mean over seeds."""
+        episodes, shots = len(self.rewards), max(self.shots, 1)
+        return [float(np.mean(self.rewards)), self.potting_shots / shots, self.fouls / shots,
+                self.cleared / episodes, self.run_outs / episodes,
+                self.break_and_runs / episodes, self.shots / episodes,
+                1e3 * self.seconds_choosing / shots]  # fmt: skip
+
 
 def make_policy(name: str, env: gym.Env, seed: int, candidates: int, agent: Any = None) -> Callable:
     """Policy ``name`` for one env: a callable from an observation to an action."""
@@ -144,11 +152,12 @@ class AgentPolicy:
 
 @dataclass(frozen=True)
 class Agent:
-    """A trained model, its normalizer (or None) and the env id it trained on."""
+    """A trained model, its normalizer (or None), the env id and seed it trained with."""
 
     model: Any
     normalizer: Any
     env_id: str
+    seed: int
 
 
 def load_agent(run_dir: str, wanted: tuple[str, ...]) -> Agent:
@@ -162,7 +171,7 @@ def load_agent(run_dir: str, wanted: tuple[str, ...]) -> Agent:
             f"--model must be a run trained on {' or '.join(wanted)}, got one trained on "
             f"{config['env_id']} ({run_dir})"
         )
-    return Agent(model, normalizer, config["env_id"])
+    return Agent(model, normalizer, config["env_id"], int(config["seed"]))
 
 
 @dataclass
@@ -185,6 +194,11 @@ class LaunchRecord:
             f"{self.launches / episodes:.2f}",
             f"{1e3 * self.seconds_choosing / launches:.1f}",
         ]
+
+    def values(self) -> list[float]:
+        episodes, launches = len(self.rewards), max(self.launches, 1)
+        return [float(np.mean(self.rewards)), self.cleared / episodes, self.pigs / launches,
+                self.launches / episodes, 1e3 * self.seconds_choosing / launches]  # fmt: skip
 
 
 def play_slingshot(env: gym.Env, policy: Callable, seed: int, record: LaunchRecord) -> None:
@@ -268,6 +282,12 @@ class AttemptRecord:
             f"{1e3 * self.seconds_choosing / max(self.launches, 1):.1f}",
         ]
 
+    def values(self) -> list[float]:
+        return [self.success(1), self.success(self.attempts),
+                auccess(self.solved_at, self.attempts), float(np.mean(self.first_rewards)),
+                self.launches / len(self.solved_at),
+                1e3 * self.seconds_choosing / max(self.launches, 1)]  # fmt: skip
+
     def template_row(self, name: str, names: tuple[str, ...]) -> list[str]:
         return [name, *(f"{self.success(1, t):.2f} / {self.success(self.attempts, t):.2f}"
                         for t in names)]  # fmt: skip
@@ -318,6 +338,16 @@ POOL_HEADER = ["policy", "reward", "pot rate", "foul rate", "cleared", "run-out"
 SLINGSHOT_HEADER = ["policy", "reward", "cleared", "pigs/launch", "launches", "ms/launch"]
 
 
+def seeds_row(name: str, records: list[Any]) -> list[str]:
+    """Mean ± std over training seeds of each number of the records' rows (a count of
+    episodes as a fraction of them)."""
+    values = np.array([record.values() for record in records])
+    return [
+        name,
+        *(f"{m:.3f} ± {s:.3f}" for m, s in zip(values.mean(0), values.std(0), strict=True)),
+    ]
+
+
 def table(rows: list[list[str]], header: list[str] = POOL_HEADER) -> str:
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)) for r in [header, *rows]]
@@ -338,7 +368,9 @@ def main(argv: list[str] | None = None) -> None:
                         help="with --level templates: seen templates' unseen levels, or "
                         "held-out templates")  # fmt: skip
     parser.add_argument("--attempts", type=int, default=10, help="attempts a template task")
-    parser.add_argument("--model", default=None, help="the agent's run directory (agents.train)")
+    parser.add_argument("--model", nargs="+", default=None,
+                        help="the agent's run directories (agents.train): one row each, and "
+                        "with several, their mean ± std")  # fmt: skip
     args = parser.parse_args(argv)
     for option in ("episodes", "attempts"):
         if getattr(args, option) < 1:
@@ -350,23 +382,40 @@ def main(argv: list[str] | None = None) -> None:
     if ("agent" in policies) != (args.model is not None):
         parser.error("--model RUN_DIR and the policy 'agent' go together")
     kind = "templates" if args.level == "templates" and args.game == "slingshot" else args.game
-    agent = load_agent(args.model, AGENT_IDS[kind]) if args.model else None
+    agents = [load_agent(run, AGENT_IDS[kind]) for run in args.model or []]
+    trained_seeds = [agent.seed for agent in agents]
+    if len(set(trained_seeds)) < len(trained_seeds):
+        parser.error(f"--model runs must have different training seeds, got {trained_seeds}")
+    players = [(name, None) for name in policies if name != "agent"]
+    players += [(name, agent) for name in policies if name == "agent" for agent in agents]
+    records: dict[str, Any] = {}
+    for name, agent in players:
+        label = name if agent is None else f"agent, seed {agent.seed}"
+        if kind == "templates":
+            records[label] = run_templates(name, args, agent)
+        else:
+            play_one = play if kind == "pool" else play_slingshot
+            records[label] = _run(name, args, Record if kind == "pool" else LaunchRecord,
+                                  play_one, agent)  # fmt: skip
+    rows = [record.row(label) for label, record in records.items()]
+    if len(agents) > 1:
+        trained = [record for label, record in records.items() if label.startswith("agent, ")]
+        rows.append(seeds_row(f"agent, {len(agents)} seeds", trained))
     seeds = f"env seeds {args.seed}-{args.seed + args.episodes - 1}"
     if kind == "pool":
-        rows = [_run(name, args, Record, play, agent).row(name) for name in policies]
         print(f"Pool2D-v0, the 15-ball rack, at most {MAX_SHOTS} shots; {args.episodes} "
               f"racks, {seeds}")  # fmt: skip
         print(table(rows))
     elif kind == "slingshot":
-        records = {name: _run(name, args, LaunchRecord, play_slingshot, agent) for name in policies}
-        rows = [record.row(name) for name, record in records.items()]
         print(f"Slingshot2D-v0, {args.level} levels, 3 birds; {args.episodes} levels, {seeds}")
         print(table(rows, SLINGSHOT_HEADER))
     else:
-        _print_templates(args, {name: run_templates(name, args, agent) for name in policies})
+        _print_templates(args, records, rows)
 
 
-def _print_templates(args: argparse.Namespace, records: dict[str, AttemptRecord]) -> None:
+def _print_templates(
+    args: argparse.Namespace, records: dict[str, AttemptRecord], rows: list[list[str]]
+) -> None:
     split, first = TEMPLATE_SPLITS[args.split]
     names = _templates.template_names(split)
     k = args.attempts
@@ -375,7 +424,7 @@ def _print_templates(args: argparse.Namespace, records: dict[str, AttemptRecord]
           f"up to {k} attempts")  # fmt: skip
     header = ["policy", "success@1", f"success@{k}", f"AUCCESS@{k}", "reward@1", "launches",
               "ms/launch"]  # fmt: skip
-    print(table([r.row(name) for name, r in records.items()], header))
+    print(table(rows, header))
     print(f"\nsuccess@1 / success@{k} by template")
     rows = [r.template_row(name, names) for name, r in records.items()]
     print(table(rows, ["policy", *names]))

@@ -127,3 +127,17 @@ def test_a_trained_agent_plays_its_own_task_and_no_other(tmp_path):
         protocol.main(["--policies", "agent", "--model", str(run), "--episodes", "1"])
     protocol.main(["--game", "slingshot", "--level", "handmade", "--policies", "agent",
                    "--model", str(run), "--episodes", "1"])  # fmt: skip
+    with pytest.raises(SystemExit):  # a mean over training seeds needs different seeds
+        protocol.main(["--game", "slingshot", "--level", "handmade", "--policies", "agent",
+                       "--model", str(run), str(run), "--episodes", "1"])  # fmt: skip
+
+
+def test_the_mean_over_seeds_row_is_the_mean_and_std_of_the_rows():
+    a, b = protocol.Record(), protocol.Record()
+    a.rewards, a.shots, a.potting_shots, a.fouls, a.cleared = [14.0, 15.0], 40, 30, 2, 2
+    b.rewards, b.shots, b.potting_shots, b.fouls, b.cleared = [12.0, 13.0], 50, 30, 5, 1
+    row = protocol.seeds_row("agent, 2 seeds", [a, b])
+    assert row[0] == "agent, 2 seeds" and len(row) == len(protocol.POOL_HEADER)
+    assert row[1] == "13.500 ± 1.000"  # rewards 14.5 and 12.5
+    assert row[3] == "0.075 ± 0.025"  # fouls a shot 0.05 and 0.10
+    assert row[4] == "0.750 ± 0.250"  # racks cleared: 2 of 2 and 1 of 2
