@@ -222,13 +222,10 @@ def _episode_cap(env_id: str, env_kwargs: dict[str, Any]) -> int:
 def _targets(task: _tasks.Task, rows: dict[str, Any]) -> dict[str, Any]:
     """Each of the task's targets (definitions in agents/README.md), met or not."""
     out = {}
-    targets = list(task.targets)
-    if RANDOM_CALL_SHOT in rows:  # the action alone is no learning: twice what it scores
-        targets.append(_tasks.Target("beats_random_call_shot_2x", "reward", 2.0, RANDOM_CALL_SHOT))
-    for target in targets:
+    for target in task.targets:
         trained = rows["trained"][target.metric]["mean"]
         needed = target.factor * rows[target.against][target.metric]["mean"]
-        met = trained >= needed and (not target.against.startswith("random") or trained > 0)
+        met = trained >= needed and (target.against != "random" or trained > 0)
         out[target.name] = {
             "metric": target.metric,
             "trained": trained,

@@ -19,9 +19,8 @@ per policy:
 
 Policies: ``random`` (uniform actions from a generator seeded ``--seed``), ``ghost``
 (``baselines.pool_ghost_ball``, the scripted player), ``planner``
-(``planner.PoolPlanner`` with ``--candidates`` simulated shots a shot). A trained agent
-needs a model trained on ``Pool2D-v0``'s own actions; the published ones play the
-call-shot tasks (``Pool2DRackCallShot-v0``), scored by ``python -m agents.evaluate``.
+(``planner.PoolPlanner`` with ``--candidates`` simulated shots a shot) and ``agent``
+(below).
 
 ``--game slingshot`` plays ``Slingshot2D-v0`` (``--level random`` or ``handmade``, three
 birds) with ``random``, ``ballistic`` (``baselines.slingshot_ballistic``) and
@@ -43,10 +42,13 @@ multiple of the split's templates scores each equally. A deterministic policy re
 its launch (the ballistic player: its success@k is its success@1); random play draws
 anew; the planner's candidates past its listed launches are random, so they change.
 
-``--policies agent --model RUN_DIR`` plays a trained agent (``agents.train``'s run
-directory): on Pool a ``Pool2DRackCallShot-v0`` agent, on the templates a
-``Slingshot2DTemplatesCallShot-v0`` one, through its call-shot wrapper; its first
-attempt at a task is its deterministic action, later ones are sampled from its policy.
+``--policies agent --model RUN_DIR ...`` plays trained agents (``agents.train``'s run
+directories, one row each and, with several, their mean ± std): on Pool agents of the
+rack (``Pool2DRackBestShots-v0`` or ``Pool2DRackCallShot-v0``), on Slingshot of
+``Slingshot2DCallShot-v0`` or ``Slingshot2DGeneratedCallShot-v0``, on the templates of
+``Slingshot2DTemplatesCallShot-v0``; each on the id it trained on (the same game and
+episodes under its call-shot wrapper). Its first attempt at a template task is its
+deterministic action, later ones are sampled from its policy.
 """
 
 from __future__ import annotations
@@ -73,7 +75,7 @@ SLINGSHOT_POLICIES = ("random", "ballistic", "planner", "agent")
 # 0-3,999 of the train templates (Slingshot2DTemplatesCallShot-v0), so tests start far off.
 TEMPLATE_SPLITS = {"seen": ("train", 1_000_000), "held-out": ("held-out", 1_000_000)}
 AGENT_IDS = {
-    "pool": ("Pool2DRackCallShot-v0",),
+    "pool": ("Pool2DRackBestShots-v0", "Pool2DRackCallShot-v0"),
     "slingshot": ("Slingshot2DCallShot-v0", "Slingshot2DGeneratedCallShot-v0"),
     "templates": ("Slingshot2DTemplatesCallShot-v0",),
 }
@@ -431,15 +433,9 @@ def _print_templates(
 
 
 def _make_env(name: str, game_id: str, agent: Agent | None, kwargs: dict[str, Any]) -> gym.Env:
-    """The env policy ``name`` plays: the game itself, or for the agent its call-shot
-    wrapper around the same game and arguments."""
-    if name != "agent":
-        return gym.make(game_id, **kwargs)
-    from impulse2d.envs import callshot
-
-    make = callshot.make_pool if game_id == "Pool2D-v0" else callshot.make_slingshot
-    limit = kwargs.pop("max_episode_steps", gym.spec(game_id).max_episode_steps)
-    return gym.wrappers.TimeLimit(make(**kwargs), limit)
+    """The env policy ``name`` plays: the game itself, or for the agent the id it trained
+    on (its call-shot wrapper around the same game), with the same arguments on top."""
+    return gym.make(game_id if name != "agent" else agent.env_id, **kwargs)
 
 
 def _run(
@@ -448,7 +444,8 @@ def _run(
     if args.game == "pool":
         env = _make_env(name, "Pool2D-v0", agent, {"max_episode_steps": MAX_SHOTS})
     else:
-        env = _make_env(name, "Slingshot2D-v0", agent, {"level": args.level})
+        levels = {"level": args.level, "num_levels": 0, "start_level": 0}  # not the agent's set
+        env = _make_env(name, "Slingshot2D-v0", agent, levels)
     policy, record = make_policy(name, env, args.seed, args.candidates, agent), kind()
     for k in range(args.episodes):
         play_one(env, policy, args.seed + k, record)

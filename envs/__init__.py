@@ -26,6 +26,9 @@ VARIANTS = {
 CALL_SHOT_IDS = {
     "Pool2DCallShot-v0": ("Pool2D-v0", {"num_balls": 1, "layout": "random"}, 5),
     "Pool2DRackCallShot-v0": ("Pool2D-v0", {"num_balls": 15, "layout": "rack"}, 30),
+    # The rack again, the call among the table's six best shots rather than the nearest
+    # ball's six pockets (impulse2d.envs.bestshots).
+    "Pool2DRackBestShots-v0": ("Pool2D-v0", {"num_balls": 15, "layout": "rack"}, 30),
     # The first task seen, not told: the table as a 64 x 64 image, no features.
     "Pool2DPixelsCallShot-v0": (
         "Pool2D-v0",
@@ -44,6 +47,15 @@ CALL_SHOT_IDS = {
         "Slingshot2D-v0",
         {"level": "templates", "templates": "train", "num_levels": 4000, "num_birds": 1},
         10,
+    ),
+}
+
+
+# Entry points of the call-shot ids that are not their game's plain call-shot wrapper.
+CALL_SHOT_ENTRY_POINTS = {
+    "Pool2DRackBestShots-v0": (
+        "impulse2d.envs.bestshots:make",
+        "impulse2d.envs.bestshots:make_vector",
     ),
 }
 
@@ -95,10 +107,14 @@ def register() -> None:
     entry = {"Pool2D-v0": "pool", "Slingshot2D-v0": "slingshot"}
     for task, (base, kwargs, max_steps) in CALL_SHOT_IDS.items():
         name = entry[base]
+        single, vector = CALL_SHOT_ENTRY_POINTS.get(
+            task,
+            (f"impulse2d.envs.callshot:make_{name}", f"impulse2d.envs.callshot:make_{name}_vector"),
+        )
         gym.register(
             id=task,
-            entry_point=f"impulse2d.envs.callshot:make_{name}",
-            vector_entry_point=f"impulse2d.envs.callshot:make_{name}_vector",
+            entry_point=single,
+            vector_entry_point=vector,
             max_episode_steps=max_steps,
             kwargs=kwargs,
         )

@@ -127,16 +127,16 @@ def _clearance(
     start: np.ndarray, end: np.ndarray, xy: np.ndarray, obstacle: np.ndarray
 ) -> np.ndarray:
     """How far the nearest obstacle ball's centre is from each segment ``start -> end``
-    (``(n, s, 2)`` each; ``xy`` ``(n, m, 2)``, ``obstacle`` ``(n, m)``), in ball
-    diameters, capped at ``CLEARANCE_CAP``: below 1, a ball rolling along the segment
-    touches that obstacle."""
+    (``(n, s, 2)`` each; ``xy`` ``(n, m, 2)``, ``obstacle`` ``(n, m)``, or ``(n, s, m)``
+    for obstacles of each segment's own), in ball diameters, capped at
+    ``CLEARANCE_CAP``: below 1, a ball rolling along the segment touches that obstacle."""
     d = end - start
     rel = xy[:, None, :, :] - start[:, :, None, :]  # (n, s, m, 2)
     length2 = np.maximum((d * d).sum(axis=-1), 1e-18)[..., None]
     t = np.clip((rel * d[:, :, None, :]).sum(axis=-1) / length2, 0.0, 1.0)
     gap = rel - t[..., None] * d[:, :, None, :]
     gap = np.sqrt((gap * gap).sum(axis=-1)) / (2 * pool.BALL_RADIUS)
-    gap = np.where(obstacle[:, None, :], gap, CLEARANCE_CAP)
+    gap = np.where(obstacle if obstacle.ndim == 3 else obstacle[:, None, :], gap, CLEARANCE_CAP)
     if gap.shape[-1] == 0:
         return np.full(d.shape[:2], CLEARANCE_CAP)
     return np.minimum(gap.min(axis=-1), CLEARANCE_CAP)
@@ -193,9 +193,12 @@ def speed_window(shot: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         v_pot^2 = 2 a run / ((1 + e) / 2 cos)^2 + 2 a reach
         v_scratch^2 = 2 a D / k^2 + 2 a reach
 
-    Both as actions, clipped to [-1, 1] (at 1 the limit is at or beyond full speed)."""
+    Both as actions, clipped to [-1, 1] (at 1 the limit is at or beyond full speed). The
+    shots are into the six pockets of ``shot["ball"]`` ``(n, 2)``, or, given
+    ``shot["pocket"]`` ``(n, s, 2)``, of the balls ``(n, s, 2)`` into those pockets."""
     a, half_e = pool.ROLLING_RESISTANCE, (1 + pool.RESTITUTION_BALL) / 2
-    u_bp, _ = _unit(POCKETS - shot["ball"][:, None, :])
+    ball = shot["ball"] if "pocket" in shot else shot["ball"][:, None, :]
+    u_bp, _ = _unit(shot.get("pocket", POCKETS) - ball)
     u, _ = _unit(shot["ghost"] - shot["cue"][:, None, :])
     after = u - half_e * (u * u_bp).sum(axis=-1, keepdims=True) * u_bp
     direction, k = _unit(after)
@@ -267,16 +270,26 @@ def pool_call_shot_actions(actions: Any, observation: Any) -> np.ndarray:
     With no object ball left, the angle is 0."""
     a = np.asarray(actions, np.float64)
     shot = pool_target_shots(observation)
-    rows = np.arange(len(a))
     pocket = np.argmax(a[:, : len(POCKETS)], axis=1)
-    sine = np.clip(shot["sin"][rows, pocket] + CUT_TRIM * a[:, len(POCKETS)], -1.0, 1.0)
-    offset = shot["ball"] - shot["cue"]
+    return called_shot(a[:, len(POCKETS) :], shot, shot["ball"], pocket)
+
+
+def called_shot(
+    trim_speed: np.ndarray, shot: dict[str, np.ndarray], ball: np.ndarray, called: np.ndarray
+) -> np.ndarray:
+    """``(n, 2)`` game actions: the cue ball at ``ball`` ``(n, 2)`` on the called shot
+    (column ``called`` ``(n,)`` of ``shot``'s ``(n, s)`` arrays), its cut trimmed by
+    ``trim_speed[:, 0]`` and its speed ``trim_speed[:, 1]`` in the called shot's window
+    (module docstring); angle 0 where ``shot["has_target"]`` is false."""
+    rows = np.arange(len(called))
+    trim, s = trim_speed[:, 0], trim_speed[:, 1]
+    sine = np.clip(shot["sin"][rows, called] + CUT_TRIM * trim, -1.0, 1.0)
+    offset = ball - shot["cue"]
     distance = np.maximum(np.sqrt((offset * offset).sum(axis=1)), 1e-9)
     turn = np.arcsin(np.clip(2 * pool.BALL_RADIUS * sine / distance, -1.0, 1.0))
     angle = np.where(shot["has_target"], np.arctan2(offset[:, 1], offset[:, 0]) + turn, 0.0)
     angle = np.remainder(angle + math.pi, 2 * math.pi) - math.pi  # [-pi, pi): the game's scale
-    speed = window_speed(a[:, len(POCKETS) + 1], shot["pot_speed"][rows, pocket],
-                         shot["scratch_speed"][rows, pocket])  # fmt: skip
+    speed = window_speed(s, shot["pot_speed"][rows, called], shot["scratch_speed"][rows, called])
     return np.stack([angle / math.pi, speed], axis=1)
 
 

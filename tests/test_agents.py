@@ -158,7 +158,6 @@ def test_evaluation_writes_the_table_curve_and_video(evaluated: tuple[Path, Any]
     assert on_disk["episodes"] == 6 and on_disk["episode_seeds"] == [1000, 1005]
     assert set(on_disk["targets"]) == {
         "beats_random_2x", "half_of_scripted", "pots_half_of_scripted", "matches_scripted",
-        "beats_random_call_shot_2x",
     }  # fmt: skip
     # Random actions of the call-shot id's own space are played on the id: 8 numbers.
     assert on_disk["policies"]["random_call_shot"]["shots"]["mean"] >= 1

@@ -256,7 +256,7 @@ def test_a_call_shot_id_plays_the_bare_games_episodes(env_id) -> None:
     raw, _ = bare.reset(seed=3)
     size = raw.shape[0]
     assert np.array_equal(obs[:size], raw)
-    task = callshot.POOL_TASK if game_id == "Pool2D-v0" else callshot.SLINGSHOT_TASK
+    task = wrapped.get_wrapper_attr("task")  # the call-shot or best-shots task of the id
     rng = np.random.default_rng(0)
     for _ in range(3):
         action = rng.uniform(-1, 1, wrapped.action_space.shape).astype(np.float32)
