@@ -24,7 +24,8 @@ schedule with ``progress_remaining`` (1 at the start, 0 at the end), so the valu
 ``progress_remaining * 5e-4``.
 
 ``activation_fn`` is written by name (``tanh``, ``relu``, ``elu``, ``leaky_relu``), and
-so is an image task's ``features_extractor_class`` (``NatureCNN``, ``ShotCNN``); each is
+so is an image task's ``features_extractor_class`` (``NatureCNN``, ``ShotCNN``,
+``KeypointCNN``); each is
 turned into its class only when the model is built, so the resolved config written to a
 run directory stays plain YAML.
 """
@@ -57,7 +58,7 @@ RUN_KEYS = (
     "policy",
 )
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
-FEATURE_EXTRACTORS = ("NatureCNN", "ShotCNN")  # by name: SB3's, and agents._cnn's
+FEATURE_EXTRACTORS = ("NatureCNN", "ShotCNN", "KeypointCNN")  # SB3's, and agents._cnn's
 SCHEDULED = ("learning_rate", "clip_range")  # keys that take ``lin_<value>``
 
 
@@ -298,9 +299,9 @@ def algo_kwargs(config: dict[str, Any]) -> dict[str, Any]:
     if isinstance(policy_kwargs.get("features_extractor_class"), str):
         from stable_baselines3.common.torch_layers import NatureCNN
 
-        from agents._cnn import ShotCNN
+        from agents._cnn import KeypointCNN, ShotCNN
 
-        classes = {"NatureCNN": NatureCNN, "ShotCNN": ShotCNN}
+        classes = {"NatureCNN": NatureCNN, "ShotCNN": ShotCNN, "KeypointCNN": KeypointCNN}
         name = policy_kwargs["features_extractor_class"]
         policy_kwargs["features_extractor_class"] = classes[name]
     return kwargs

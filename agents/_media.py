@@ -67,7 +67,8 @@ def learning_curve(
 
 def reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any]:
     """pyplot (headless), a figure and its axes of reward against env steps, with the
-    baselines' evaluation means as dashed lines (random red, scripted green)."""
+    baselines' evaluation means as dashed lines (random red, random call-shot actions
+    orange, scripted green)."""
     import matplotlib
 
     matplotlib.use("Agg")  # files only, no display
@@ -76,6 +77,7 @@ def reward_axes(title: str, baselines: dict[str, float]) -> tuple[Any, Any, Any]
     fig, ax = plt.subplots(figsize=(7, 4), dpi=110)
     for name, value in baselines.items():
         colour = "tab:red" if name.startswith("random") else "tab:green"
+        colour = "tab:orange" if name.startswith("random call-shot") else colour
         ax.axhline(value, ls="--", color=colour, label=name)
     ax.set_xlabel("env steps (shots)")
     ax.set_ylabel("reward / episode")

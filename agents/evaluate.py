@@ -313,14 +313,25 @@ def summarize_runs(run_dirs: list[str | Path], plot: str | Path | None = None) -
         "trained": f"trained {algo}",
         "random": "random",
         "scripted": f"scripted ({first['scripted']})",
+        RANDOM_CALL_SHOT: "random call-shot actions",
     }
-    for key in POLICIES:
+    for key in [k for k in names if all(k in run["policies"] for run in runs)]:
         cells = []
         for metric in labels:
             values = np.array([run["policies"][key][metric]["mean"] for run in runs])
             cells.append(f"{values.mean():.2f} ± {values.std():.2f}")
         lines.append(f"| {names[key]} | " + " | ".join(cells) + " |")
     if plot is not None:
+        baselines = {
+            "random, evaluated": first["policies"]["random"]["reward"]["mean"],
+            f"scripted ({first['scripted']}), evaluated": first["policies"]["scripted"]["reward"][
+                "mean"
+            ],
+        }
+        if RANDOM_CALL_SHOT in first["policies"]:
+            baselines["random call-shot actions, evaluated"] = first["policies"][RANDOM_CALL_SHOT][
+                "reward"
+            ]["mean"]
         _media.seed_curves(
             [
                 (
@@ -332,12 +343,7 @@ def summarize_runs(run_dirs: list[str | Path], plot: str | Path | None = None) -
             ],
             Path(plot),
             f"{algo} on {first.get('entry', first['env_id'])}: {len(runs)} training seeds",
-            {
-                "random, evaluated": first["policies"]["random"]["reward"]["mean"],
-                f"scripted ({first['scripted']}), evaluated": first["policies"]["scripted"][
-                    "reward"
-                ]["mean"],
-            },
+            baselines,
             skip_before=_skip_before(Path(run_dirs[0])),
         )
     met = {name: sum(run["targets"][name]["met"] for run in runs) for name in first["targets"]}
