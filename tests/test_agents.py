@@ -261,7 +261,8 @@ def test_shipped_hyperparameters_resolve(algo: str, env: str) -> None:
         (["--seed", "-1"], "seed must be an int >= 0"),
         (
             ["--hyperparams", "policy_kwargs={features_extractor_class: ResNet}"],
-            "policy_kwargs.features_extractor_class must be one of ('NatureCNN', 'ShotCNN')",
+            "policy_kwargs.features_extractor_class must be one of "
+            "('NatureCNN', 'ShotCNN', 'KeypointCNN')",
         ),
     ],
 )

@@ -143,3 +143,25 @@ def test_the_mean_over_seeds_row_is_the_mean_and_std_of_the_rows():
     assert row[1] == "13.500 ± 1.000"  # rewards 14.5 and 12.5
     assert row[3] == "0.075 ± 0.025"  # fouls a shot 0.05 and 0.10
     assert row[4] == "0.750 ± 0.250"  # racks cleared: 2 of 2 and 1 of 2
+
+
+def test_the_constant_calls_table_lists_the_best_blind_players(capsys):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "bench" / "constant_calls.py"
+    spec = importlib.util.spec_from_file_location("constant_calls", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.main(["--env", "Pool2DCallShot-v0", "--episodes", "6", "--speeds", "-0.6", "0.9",
+                 "--top", "12"])  # fmt: skip
+    lines = capsys.readouterr().out.splitlines()
+    rows = [line.split("|") for line in lines[3:]]
+    assert len(rows) == 12  # six pockets x two speeds, best first
+    rewards = [float(row[3].split("±")[0]) for row in rows]
+    assert rewards == sorted(rewards, reverse=True)
+    # low in the speed window beats far above it for the same pocket, on average
+    by = {(row[1].strip(), row[2].strip()): r for row, r in zip(rows, rewards, strict=True)}
+    low = np.mean([by[(str(p), "-0.6")] for p in range(6)])
+    high = np.mean([by[(str(p), "+0.9")] for p in range(6)])
+    assert low > high
