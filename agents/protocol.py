@@ -95,17 +95,18 @@ class Record:
     seconds_choosing: float = 0.0
 
     def row(self, name: str) -> list[str]:
-        episodes, shots = len(self.rewards), max(self.shots, 1)
+        episodes = len(self.rewards)
+        _, pots, fouls, _, _, _, shots, ms = self.values()
         return [
             name,
             f"{np.mean(self.rewards):.2f} ± {np.std(self.rewards):.2f}",
-            f"{self.potting_shots / shots:.3f}",
-            f"{self.fouls / shots:.3f}",
+            f"{pots:.3f}",
+            f"{fouls:.3f}",
             f"{self.cleared}/{episodes}",
             f"{self.run_outs}/{episodes}",
             f"{self.break_and_runs}/{episodes}",
-            f"{self.shots / episodes:.1f}",
-            f"{1e3 * self.seconds_choosing / shots:.1f}",
+            f"{shots:.1f}",
+            f"{ms:.1f}",
         ]
 
     def values(self) -> list[float]:
@@ -187,14 +188,14 @@ class LaunchRecord:
     seconds_choosing: float = 0.0
 
     def row(self, name: str) -> list[str]:
-        episodes, launches = len(self.rewards), max(self.launches, 1)
+        _, _, pigs, launches, ms = self.values()
         return [
             name,
             f"{np.mean(self.rewards):.2f} ± {np.std(self.rewards):.2f}",
-            f"{self.cleared}/{episodes}",
-            f"{self.pigs / launches:.3f}",
-            f"{self.launches / episodes:.2f}",
-            f"{1e3 * self.seconds_choosing / launches:.1f}",
+            f"{self.cleared}/{len(self.rewards)}",
+            f"{pigs:.3f}",
+            f"{launches:.2f}",
+            f"{ms:.1f}",
         ]
 
     def values(self) -> list[float]:
@@ -274,14 +275,15 @@ class AttemptRecord:
         return float(np.mean([1 <= s <= k for s in rows]))
 
     def row(self, name: str) -> list[str]:
+        first, within, area, _, launches, ms = self.values()
         return [
             name,
-            f"{self.success(1):.3f}",
-            f"{self.success(self.attempts):.3f}",
-            f"{auccess(self.solved_at, self.attempts):.3f}",
+            f"{first:.3f}",
+            f"{within:.3f}",
+            f"{area:.3f}",
             f"{np.mean(self.first_rewards):.2f} ± {np.std(self.first_rewards):.2f}",
-            f"{self.launches / len(self.solved_at):.2f}",
-            f"{1e3 * self.seconds_choosing / max(self.launches, 1):.1f}",
+            f"{launches:.2f}",
+            f"{ms:.1f}",
         ]
 
     def values(self) -> list[float]:

@@ -43,6 +43,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -163,16 +164,10 @@ def game_agreement(tables: int, shots: int, seconds: float | None) -> list[str]:
     """The same seeded racks and shots of ``Pool2D-v0`` (15 balls) on both: how many of
     the shots gave the same reward, pots and fouls, and the largest difference in a
     ball's place after them (m)."""
-    import gymnasium as gym
-
     say(f"game agreement: {tables} racks, {shots} shots on both")
-    options = {"max_shot_seconds": seconds} if seconds else {}
     played = []
     for device in ("cpu", "cuda"):
-        env = gym.make_vec(
-            "Pool2D-v0", tables, vectorization_mode="vector_entry_point", device=device,
-            autoreset_mode="same_step", **options,
-        )  # fmt: skip
+        env = _pool_tables(tables, device, seconds)
         env.reset(seed=0)
         actions = np.random.default_rng(0).uniform(-1, 1, (shots, *env.action_space.shape))
         outcomes = []
@@ -189,14 +184,19 @@ def game_agreement(tables: int, shots: int, seconds: float | None) -> list[str]:
     return [f"{tables}", f"{shots}", f"{same}/{tables * shots}", f"{place:.3g}"]
 
 
-def env_rate(tables: int, device: str, shots: int, seconds: float | None = None) -> float:
+def _pool_tables(tables: int, device: str, seconds: float | None) -> Any:
+    """The Pool2D-v0 vector env of ``tables`` on ``device`` (shots cut at ``seconds``)."""
     import gymnasium as gym
 
     options = {"max_shot_seconds": seconds} if seconds else {}
-    env = gym.make_vec(
+    return gym.make_vec(
         "Pool2D-v0", tables, vectorization_mode="vector_entry_point", device=device,
         autoreset_mode="same_step", **options,
     )  # fmt: skip
+
+
+def env_rate(tables: int, device: str, shots: int, seconds: float | None = None) -> float:
+    env = _pool_tables(tables, device, seconds)
     env.reset(seed=0)
     actions = np.random.default_rng(0).uniform(-1, 1, (shots, *env.action_space.shape))
     t0 = time.perf_counter()
