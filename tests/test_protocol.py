@@ -129,6 +129,16 @@ def test_a_trained_agent_plays_its_own_task_and_no_other(tmp_path):
         protocol.main(["--policies", "agent", "--model", str(run), "--episodes", "1"])
     protocol.main(["--game", "slingshot", "--level", "handmade", "--policies", "agent",
                    "--model", str(run), "--episodes", "1"])  # fmt: skip
+    # On a Slingshot env the agent's first call is its deterministic action and later ones
+    # are sampled (retries at a task explore); on Pool every call is deterministic.
+    agent = protocol.load_agent(str(run), ("Slingshot2DCallShot-v0",))
+    env = protocol._make_env("agent", "Slingshot2D-v0", agent, {"level": "table"})
+    policy = protocol.make_policy("agent", env, 0, 8, agent)
+    obs, _ = env.reset(seed=0)
+    first, later = policy(obs), [policy(obs) for _ in range(3)]
+    expected, _ = agent.model.predict(obs[None], deterministic=True)
+    np.testing.assert_array_equal(first, expected[0])
+    assert all(not np.array_equal(first, a) for a in later)
     with pytest.raises(SystemExit):  # a mean over training seeds needs different seeds
         protocol.main(["--game", "slingshot", "--level", "handmade", "--policies", "agent",
                        "--model", str(run), str(run), "--episodes", "1"])  # fmt: skip
