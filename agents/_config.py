@@ -16,6 +16,8 @@ constructor's signature, here, rather than deep inside Stable-Baselines3)::
       normalize: false          # VecNormalize: false, true, or {norm_obs: .., norm_reward: ..}
       policy: MlpPolicy
       policy_kwargs: {net_arch: [128, 128], activation_fn: tanh}
+      pretrain_encoder: {frames: 32768}  # pixel tasks: the encoder pretrained (_pretrain.py)
+      initial_action: [1, 0, 0, 0, 0, 0, 0, -0.6]  # PPO's mean action at the start
       learning_rate: 3.0e-4     # ... and any other constructor argument
 
 A schedule is written as RL Zoo writes it: ``learning_rate: lin_5e-4`` (or ``clip_range:
@@ -44,6 +46,8 @@ import yaml
 
 import impulse2d.envs as _envs
 
+from . import _pretrain
+
 HYPERPARAMS_DIR = Path(__file__).parent / "hyperparams"
 ALGOS = ("ppo", "sac")
 ENV_IDS = tuple(_envs.all_ids())
@@ -56,6 +60,8 @@ RUN_KEYS = (
     "eval_env_kwargs",
     "normalize",
     "policy",
+    "pretrain_encoder",
+    "initial_action",
 )
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu")
 FEATURE_EXTRACTORS = ("NatureCNN", "ShotCNN", "KeypointCNN")  # SB3's, and agents._cnn's
@@ -181,7 +187,7 @@ def resolve(
     config such as a resumed run's) with the command line's values on top, checked.
     ``env_id`` names the entry: an env id, or ``<env id>/<variant>``. Returns
     ``{"env_id", "entry", "algo", "seed", "n_timesteps", "n_envs", "env_kwargs",
-    "eval_env_kwargs", "normalize", "policy", "hyperparams"}``
+    "eval_env_kwargs", "normalize", "policy", "pretrain_encoder", "initial_action", "hyperparams"}``
     (plain YAML-able values; ``env_id`` is the env itself, ``entry`` the entry's name)."""
     check_env_id(env_id)
     if base is not None:
@@ -213,9 +219,33 @@ def resolve(
     config["eval_env_kwargs"] = evaluation
     config["normalize"] = _check_normalize(entry.pop("normalize", False))
     config["policy"] = entry.pop("policy", "MlpPolicy")
+    config["initial_action"] = _check_initial_action(algo, entry.pop("initial_action", None))
+    # A pixel task's encoder taught to read the table first (agents/_pretrain.py).
+    config["pretrain_encoder"] = _pretrain.check_pretrain(entry.pop("pretrain_encoder", None))
     _check_algo_kwargs(algo, entry)
     config["hyperparams"] = entry
     return config
+
+
+def _check_initial_action(algo: str, value: Any) -> list[float] | None:
+    """The policy's mean action before training (PPO): None, or a list of numbers in
+    [-1, 1], one per action dimension (its length is checked against the env's when the
+    model is built)."""
+    if value is None:
+        return None
+    if algo != "ppo":
+        raise ValueError(f"initial_action is a PPO setting (its Gaussian's mean), not {algo}'s")
+    ok = (
+        isinstance(value, list)
+        and value
+        and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and -1.0 <= v <= 1.0
+            for v in value
+        )
+    )
+    if not ok:
+        raise ValueError(f"initial_action must be a list of numbers in [-1, 1], got {value!r}")
+    return [float(v) for v in value]
 
 
 def _check_normalize(value: Any) -> bool | dict[str, Any]:

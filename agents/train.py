@@ -150,6 +150,12 @@ def build(
     if resume_path is None:
         kwargs = _config.algo_kwargs(config)
         model = cls(config["policy"], venv, seed=seed, device="cpu", verbose=verbose, **kwargs)
+        if config.get("initial_action") is not None:
+            set_initial_action(model, config["initial_action"])
+        if config.get("pretrain_encoder"):
+            from . import _pretrain
+
+            _pretrain.pretrain(model.policy, config, run_dir)
     else:
         # Loading with the env sizes the rollout buffer for this run's number of worlds.
         model = cls.load(str(resume_path), env=venv, device="cpu")
@@ -169,6 +175,23 @@ def build(
         flush=True,
     )
     return Experiment(config, run_dir, model, venv, logger, previous_progress, torch_threads)
+
+
+def set_initial_action(model: Any, action: list[float]) -> None:
+    """Start PPO's policy at ``action``: the bias of the layer giving the Gaussian's mean.
+    That layer starts with weights of scale 0.01 (SB3's orthogonal init), so the mean is
+    ``action`` on every observation, give or take a hundredth, until training moves it
+    (a warm start at a fixed shot: ``agents/TUNING.md``, Pool2DRackBestShots-v0)."""
+    import torch
+
+    layer = model.policy.action_net
+    if len(action) != layer.out_features:
+        raise ValueError(
+            f"initial_action must have {layer.out_features} numbers (the action's size), "
+            f"got {len(action)}"
+        )
+    with torch.no_grad():
+        layer.bias.copy_(torch.tensor(action, dtype=layer.bias.dtype))
 
 
 def learn(experiment: Experiment, *, progress_bar: bool = True, resumed: bool = False) -> None:

@@ -444,6 +444,18 @@ class _CallShotVector(gym.vector.VectorWrapper):
         obs, info = self.env.reset(**kwargs)
         return self.observation(obs), info
 
+    def state_observation(self) -> np.ndarray:
+        """``(num_envs, f)`` float32: what the state task observes of the worlds now (the
+        game's state and the call-shot features), whatever this env observes; the labels
+        a pixel encoder is pretrained on (``agents._pretrain``)."""
+        return self.task.observe(self._game.observe())
+
+    def state_observation_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The low and high bounds of each column of ``state_observation``."""
+        base = gym.spaces.Box(self._game.observation_low, self._game.observation_high)
+        space = self.task.observation_space(base)
+        return space.low.astype(np.float64), space.high.astype(np.float64)
+
     def step(self, actions: Any) -> tuple[np.ndarray, Any, Any, Any, dict[str, Any]]:
         actions = check_action(actions, self.action_space.shape)
         game_actions = self.task.to_game(actions, self._game.observe())

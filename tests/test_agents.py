@@ -452,3 +452,42 @@ def test_targets_compare_the_trained_agent_with_the_named_player() -> None:
     ))  # fmt: skip
     assert not got["beats_random_2x"]["met"]  # 0 >= 2 x 0, but twice nothing is no bar
     assert not got["pots_half_of_scripted"]["met"] and not got["matches_scripted"]["met"]
+
+
+def test_initial_action_starts_ppo_at_that_shot(tmp_path: Path) -> None:
+    """``initial_action`` sets PPO's mean action before training: the untrained policy
+    plays it (within SB3's small initial weights) on any observation."""
+    prior = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.6]
+    config = _config.resolve(
+        "ppo", "Pool2DCallShot-v0", num_envs=4, overrides={"initial_action": prior}
+    )
+    model = train.build(config, tmp_path / "run").model
+    obs = np.random.default_rng(0).uniform(-1, 1, (32, *model.observation_space.shape))
+    actions, _ = model.predict(obs.astype(np.float32), deterministic=True)
+    np.testing.assert_allclose(actions, np.broadcast_to(prior, actions.shape), atol=0.1)
+    plain = train.build(_config.resolve("ppo", "Pool2DCallShot-v0", num_envs=4), tmp_path / "b")
+    untrained = plain.model.predict(obs.astype(np.float32), deterministic=True)[0]
+    assert np.abs(untrained).max() < 0.1  # SB3's own start: every mean near 0
+    assert yaml.safe_load((tmp_path / "run" / "config.yml").read_text())["initial_action"] == prior
+
+
+@pytest.mark.parametrize(
+    ("algo", "value", "match"),
+    [
+        ("sac", [0.0] * 8, "initial_action is a PPO setting"),
+        ("ppo", [2.0] + [0.0] * 7, r"initial_action must be a list of numbers in \[-1, 1\]"),
+        ("ppo", "up", r"initial_action must be a list of numbers in \[-1, 1\]"),
+        ("ppo", [], r"initial_action must be a list of numbers in \[-1, 1\]"),
+        ("ppo", [True] * 8, r"initial_action must be a list of numbers in \[-1, 1\]"),
+    ],
+)
+def test_bad_initial_action_is_named(algo: str, value: object, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        _config.resolve(algo, "Pool2DCallShot-v0", overrides={"initial_action": value})
+
+
+def test_initial_action_of_the_wrong_size_is_named(tmp_path: Path) -> None:
+    config = _config.resolve("ppo", "Pool2DCallShot-v0", num_envs=4,
+                             overrides={"initial_action": [0.0, 0.5]})  # fmt: skip
+    with pytest.raises(ValueError, match=r"initial_action must have 8 numbers .* got 2"):
+        train.build(config, tmp_path / "run")
