@@ -64,10 +64,13 @@ def test_the_pixel_task_trains_its_cnn_on_the_frames(tmp_path: Path) -> None:
     from agents import evaluate
     from agents._cnn import ShotCNN
 
-    run_dir = _train(tmp_path / "run", "Pool2DPixelsCallShot-v0", "ppo", 32)
+    # the entry's pretraining, shrunk (its 65,536 frames take minutes)
+    tiny = "pretrain_encoder={frames: 64, epochs: 1}"
+    run_dir = _train(tmp_path / "run", "Pool2DPixelsCallShot-v0", "ppo", 32, tiny)
     model = _config.algo_class("ppo").load(str(run_dir / "model.zip"), device="cpu")
     assert isinstance(model.policy.features_extractor, ShotCNN)
     assert model.observation_space.shape == (3, 64, 64)
+    assert (run_dir / "pretrain.json").is_file()
     results = evaluate.evaluate(run_dir, episodes=4, video=None)
     assert set(results["policies"]) == {"trained", "random", "scripted", "random_call_shot"}
     # the scripted player read positions: it pots as it does on the state task

@@ -19,13 +19,15 @@ def _run(tmp_path: Path, env: str) -> Path:
     argv = [
         "--env", env, "--timesteps", "16", "--num-envs", "4", "--seed", "0",
         "--run-dir", str(tmp_path / env), "--no-progress-bar", "--no-evaluate",
-        "--hyperparams", "n_steps=4", "batch_size=16", "n_epochs=1",
+        "--hyperparams", "n_steps=4", "batch_size=16", "n_epochs=1", "pretrain_encoder=null",
     ]  # fmt: skip
     return train.main(argv)
 
 
-def test_first_calls_and_the_ghost_ball_players_pocket(tmp_path: Path) -> None:
-    run = _run(tmp_path, "Pool2DCallShot-v0")
+@pytest.mark.parametrize("env", ["Pool2DCallShot-v0", "Pool2DPixelsCallShot-v0"])
+def test_first_calls_and_the_ghost_ball_players_pocket(tmp_path: Path, env: str) -> None:
+    """The same tables for the state and the pixel task (frames fed channels first)."""
+    run = _run(tmp_path, env)
     out = calls.first_calls(run, tables=20, seed=1000)
     assert out["called"].shape == out["ghost"].shape == out["clear"].shape == (20,)
     assert ((0 <= out["called"]) & (out["called"] < 6)).all()

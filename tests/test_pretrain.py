@@ -113,7 +113,7 @@ def test_a_run_with_pretraining_starts_from_the_fitted_encoder(tmp_path: Path) -
     import torch
 
     tiny = {"n_steps": 4, "batch_size": 16, "n_epochs": 1}
-    plain = _config.resolve("ppo", PIXELS, num_envs=4, overrides=tiny)
+    plain = _config.resolve("ppo", PIXELS, num_envs=4, overrides={**tiny, "pretrain_encoder": None})
     fitted = _config.resolve("ppo", PIXELS, num_envs=4, overrides={
         **tiny, "pretrain_encoder": {"frames": 64, "epochs": 1, "batch_size": 32}})  # fmt: skip
     models = [train.build(c, tmp_path / name).model for c, name in ((plain, "a"), (fitted, "b"))]
