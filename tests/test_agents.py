@@ -461,14 +461,17 @@ def test_initial_action_starts_ppo_at_that_shot(tmp_path: Path) -> None:
     """``initial_action`` sets PPO's mean action before training: the untrained policy
     plays it (within SB3's small initial weights) on any observation."""
     prior = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.6]
+    small = {"n_steps": 4, "batch_size": 16}
     config = _config.resolve(
-        "ppo", "Pool2DCallShot-v0", num_envs=4, overrides={"initial_action": prior}
+        "ppo", "Pool2DCallShot-v0", num_envs=4, overrides={**small, "initial_action": prior}
     )
     model = train.build(config, tmp_path / "run").model
     obs = np.random.default_rng(0).uniform(-1, 1, (32, *model.observation_space.shape))
     actions, _ = model.predict(obs.astype(np.float32), deterministic=True)
     np.testing.assert_allclose(actions, np.broadcast_to(prior, actions.shape), atol=0.1)
-    plain = train.build(_config.resolve("ppo", "Pool2DCallShot-v0", num_envs=4), tmp_path / "b")
+    plain = train.build(
+        _config.resolve("ppo", "Pool2DCallShot-v0", num_envs=4, overrides=small), tmp_path / "b"
+    )
     untrained = plain.model.predict(obs.astype(np.float32), deterministic=True)[0]
     assert np.abs(untrained).max() < 0.1  # SB3's own start: every mean near 0
     assert yaml.safe_load((tmp_path / "run" / "config.yml").read_text())["initial_action"] == prior
@@ -491,6 +494,7 @@ def test_bad_initial_action_is_named(algo: str, value: object, match: str) -> No
 
 def test_initial_action_of_the_wrong_size_is_named(tmp_path: Path) -> None:
     config = _config.resolve("ppo", "Pool2DCallShot-v0", num_envs=4,
-                             overrides={"initial_action": [0.0, 0.5]})  # fmt: skip
+                             overrides={"initial_action": [0.0, 0.5], "n_steps": 4,
+                                        "batch_size": 16})  # fmt: skip
     with pytest.raises(ValueError, match=r"initial_action must have 8 numbers .* got 2"):
         train.build(config, tmp_path / "run")
