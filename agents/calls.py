@@ -6,7 +6,8 @@ the ball still scores: calling one pocket at a soft speed every time is worth 0.
 that depends on the table. So this plays each run's first shot on the evaluation's
 tables (the seeds ``agents.evaluate`` plays) and prints, per run, how often it calls each
 pocket, how often its call is the ghost-ball player's pocket (the best clear shot by its
-score, ``impulse2d.envs.bestshots``) and how often the called shot is clear at all; and
+score, ``impulse2d.envs.bestshots``; on a table with none clear, the best blocked one)
+and how often the called shot is clear at all; and
 the same for the best fixed pocket, the blind player's ceiling on that count::
 
     python -m agents.calls runs/Pool2DPixelsCallShot-v0_ppo_seed0 [more runs]
@@ -40,8 +41,8 @@ def first_calls(run_dir: str | Path, tables: int = 100, seed: int = 1000) -> dic
     if config["env_id"] not in ONE_BALL_IDS:
         raise ValueError(f"run_dir: a run of one of {ONE_BALL_IDS}, not {config['env_id']}")
     seeds = list(range(seed, seed + tables))
-    venv = gym.make_vec(config["env_id"], tables, vectorization_mode="vector_entry_point",
-                        **config["env_kwargs"], **config["eval_env_kwargs"])  # fmt: skip
+    kwargs = {**config["env_kwargs"], **config["eval_env_kwargs"]}  # as agents.evaluate plays
+    venv = gym.make_vec(config["env_id"], tables, vectorization_mode="vector_entry_point", **kwargs)
     obs, _ = venv.reset(seed=seeds)
     shots = table_shots(venv.unwrapped.game.observe())  # one ball: its six pockets
     venv.close()

@@ -180,7 +180,8 @@ def build(
 def set_initial_action(model: Any, action: list[float]) -> None:
     """Start PPO's policy at ``action``: the bias of the layer giving the Gaussian's mean.
     That layer starts with weights of scale 0.01 (SB3's orthogonal init), so the mean is
-    ``action`` on every observation, give or take a hundredth, until training moves it
+    ``action`` on every observation, give or take a few hundredths (with SB3's default
+    ``ortho_init``), until training moves it
     (a warm start at a fixed shot: ``agents/TUNING.md``, Pool2DRackBestShots-v0)."""
     import torch
 
