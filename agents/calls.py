@@ -34,10 +34,10 @@ def first_calls(run_dir: str | Path, tables: int = 100, seed: int = 1000) -> dic
     from impulse2d.envs.bestshots import table_shots
 
     from . import _config
-    from .evaluate import load_model
+    from .evaluate import load_policy
 
     tables = _config.positive_count("tables", tables)
-    model, normalizer, config = load_model(run_dir)
+    policy, config = load_policy(run_dir)  # deterministic, as agents.evaluate plays it
     if config["env_id"] not in ONE_BALL_IDS:
         raise ValueError(f"run_dir: a run of one of {ONE_BALL_IDS}, not {config['env_id']}")
     seeds = list(range(seed, seed + tables))
@@ -46,12 +46,7 @@ def first_calls(run_dir: str | Path, tables: int = 100, seed: int = 1000) -> dic
     obs, _ = venv.reset(seed=seeds)
     shots = table_shots(venv.unwrapped.game.observe())  # one ball: its six pockets
     venv.close()
-    if obs.ndim == 4:  # frames: channels first, as the model saw them in training
-        obs = np.transpose(obs, (0, 3, 1, 2))
-    if normalizer is not None:
-        obs = normalizer.normalize_obs(obs)
-    actions, _ = model.predict(obs, deterministic=True)
-    called = np.argmax(actions[:, :6], axis=1)
+    called = np.argmax(policy(obs)[:, :6], axis=1)
     ghost = np.argmax(shots["score"] + 2.0 * shots["valid"], axis=1)
     return {"called": called, "ghost": ghost, "clear": shots["valid"][np.arange(tables), called]}
 

@@ -59,9 +59,8 @@ def _policy() -> object:
 
     config = _config.resolve("ppo", PIXELS, seed=0)
     venv = make_sb3_vec_env(PIXELS, 2, seed=0)
-    return PPO(config["policy"], venv, n_steps=8, batch_size=16, **{
-        k: v for k, v in _config.algo_kwargs(config).items() if k in ("policy_kwargs",)
-    }).policy  # fmt: skip
+    policy_kwargs = _config.algo_kwargs(config)["policy_kwargs"]
+    return PPO(config["policy"], venv, n_steps=8, batch_size=16, policy_kwargs=policy_kwargs).policy
 
 
 def test_fitting_lowers_the_loss_and_changes_only_the_encoder() -> None:
