@@ -1,0 +1,204 @@
+"""The contact solve's data layout, measured before the port: ns a point a pass.
+
+Box2D v3 solves contacts over compact arrays: a 32-byte body state (velocity, angular
+velocity, position and rotation deltas over the step), constraints prepared once a step
+into a structure of arrays of two-point manifolds, and a graph colouring so that the
+constraints of one colour share no dynamic body and are solved side by side in SIMD lanes.
+impulse2d's solver (``core.solver.sweep``) walks 35-float64 point rows and 30-float64 body
+rows in order, one point at a time. This probe times the pass that matters most, the
+biased solve of a substep (normals, then friction within the cone), on the contacts of a
+real step: Box2D's 20-row pyramid (210 boxes) after 100 steps, copied out of
+``pipeline.step_world`` just before its substeps (``profile_step``'s kernel, stages 1-5).
+
+Kernels (``bench/solver_probe_kernels.py``); each runs ``--passes`` passes over the same
+constraints, and the figure is the median of ``--rounds`` timed calls over points x passes:
+
+* ``today``: ``core.solver.sweep`` on the step's point rows (with the two-point block
+  solve it does for every pair, and its pass over the pairs against planes);
+* ``compact``: the compact layout in the narrowphase's order, the body states read and
+  written in place (Gauss-Seidel as today);
+* ``coloured``: the manifolds sorted by colour (greedy; the bodies that cannot move, one
+  dummy row, shared freely); per colour a gather loop copies the two bodies' states into
+  lane arrays, a loop solves the lanes, a scatter loop writes the velocities back;
+* ``coloured, blocks of 4``: the same with each colour padded to a multiple of four and
+  solved four lanes at a time, loads before stores (what an SLP vectoriser packs);
+* ``floor``: the soft normal impulse alone over gathered arrays, one array a field: the
+  arithmetic a vectorised loop costs, for scale;
+
+in float64 and float32. "packed ymm/zmm" counts the 256- and 512-bit packed floating-point
+instructions in the kernel's machine code (``inspect_asm``): the ones above a handful
+mean numba/LLVM vectorised a loop. "ground J / (m g h)" checks the physics: the normal
+impulse on the ground over the pyramid's weight times the substep (about 1 in every layout:
+Gauss-Seidel in another order converges to the same answer, not to the same bits).
+Rerun with ``NUMBA_SLP_VECTORIZE=1`` (numba's SLP vectoriser, off by default) and
+``NUMBA_LOOP_VECTORIZE=0`` to see what each vectoriser does.
+
+Run: ``python bench/solver_probe.py`` (about 30 s, most of it compiling); ``--quick``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import statistics
+import time
+
+import llvmlite.binding
+import numba
+import numpy as np
+
+from impulse2d.core import context, solver
+from impulse2d.core.state import INV_MASS
+from impulse2d.core.workspace import NORMAL_J, NORMAL_MASS, SEP0, Workspace, views
+
+try:
+    from bench import solver_probe_kernels as kernels
+    from bench.profile_step import _arrays, _stages, pyramid_case
+    from bench.report import fmt, print_table
+    from bench.solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
+except ImportError:
+    import solver_probe_kernels as kernels
+    from profile_step import _arrays, _stages, pyramid_case
+    from report import fmt, print_table
+    from solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
+
+
+@numba.njit(nogil=True)
+def today(body, ctx, terms, points, ids, n, passes):
+    """``passes`` biased sweeps of today's solver over world 0's points."""
+    for _ in range(passes):
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False)
+
+
+def capture() -> dict:
+    """The prepared contact points of the 20-row pyramid's 101st step, and its bodies."""
+    case = pyramid_case(20, 100)
+    state = tuple(a.copy() for a in _arrays(case.saved))
+    caps = case.caps
+    space = Workspace(1, case.saved.body.shape[1], int(caps[0]), int(caps[1]))
+    ctx = case.world.settings.step_context(case.dt)
+    n = _stages(state, case.world.layout.rows, ctx, 0, space.floats[0], space.ints[0],
+                int(caps[0]), int(caps[1]), 5)  # fmt: skip
+    scratch = views(space.floats[0], space.ints[0], state[0].shape[1], int(caps[0]), int(caps[1]))
+    return {
+        "n": n,
+        "body": state[0],
+        "terms": scratch.terms.copy(),
+        "points": scratch.points[:n].copy(),
+        "ids": scratch.point_ids[:n].copy(),
+        "ctx": ctx,
+        "movable": case.world.state.body[0, :, INV_MASS] > 0.0,
+    }
+
+
+_PACKED = re.compile(r"^\s*v\w*p[sd]\s.*%[yz]mm", re.MULTILINE)
+
+
+def packed_instructions(*compiled) -> int:
+    """Packed 256/512-bit floating-point instructions in the kernels' machine code."""
+    return sum(len(_PACKED.findall(asm)) for k in compiled for asm in k.inspect_asm().values())
+
+
+def timed(call, rounds: int) -> float:
+    """The median seconds of ``rounds`` calls, after one that compiles."""
+    call()
+    times = []
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+class Scene:
+    """The captured step in every layout the kernels take."""
+
+    def __init__(self) -> None:
+        self.cap = cap = capture()
+        self.n, ctx = cap["n"], cap["ctx"]
+        self.inv_h, self.push = ctx[context.INV_H], ctx[context.PUSH_SPEED]
+        self.con, self.pair = manifolds(cap)
+        self.dummy = cap["body"].shape[1]
+        colours = colour(self.pair, self.dummy)
+        self.order = np.argsort(colours, kind="stable")
+        self.starts = np.searchsorted(colours[self.order], np.arange(colours.max() + 2))
+        self.weight_impulse = float(cap["movable"].sum()) * 9.81 * ctx[context.H]
+
+    def consts(self, dtype) -> np.ndarray:
+        """The kernels' ``consts`` (``solver_probe_kernels.INV_H`` ...) in ``dtype``."""
+        return np.array([self.inv_h, self.push, 0.0, 1.0], dtype)
+
+    def coloured_args(self, dtype, passes: int, blocks: bool) -> tuple:
+        con, pair = self.con[:, self.order], self.pair[self.order]
+        starts = self.starts.astype(np.int64)
+        if blocks:
+            con, pair, starts = pad_colours(con, pair, starts, 4, self.dummy)
+        con = np.ascontiguousarray(con).astype(dtype)
+        lanes = np.zeros((LANE_F, con.shape[1]), dtype)
+        states = body_states(self.cap, dtype)
+        return states, con, pair, starts, lanes, self.consts(dtype), passes, blocks
+
+
+def _row(name, seconds, scene, passes, packed, ground) -> tuple[str, float, int, float]:
+    return name, seconds / (scene.n * passes) * 1e9, packed, ground
+
+
+def run(passes: int, rounds: int) -> list[tuple[str, float, int, float]]:
+    scene = Scene()
+    cap, n = scene.cap, scene.n
+    body, points = cap["body"].copy(), cap["points"].copy()
+    seconds = timed(lambda: today(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes),
+                    rounds)  # fmt: skip
+    ground = points[:, NORMAL_J][cap["ids"][:, 0] == 0].sum() / scene.weight_impulse
+    rows = [_row("today: core.solver.sweep, float64 rows", seconds, scene, passes,
+                 packed_instructions(today), ground)]  # fmt: skip
+    for dtype in (np.float64, np.float32):
+        name = np.dtype(dtype).name
+        con = scene.con.astype(dtype)
+        args = (body_states(cap, dtype), con, scene.pair, scene.consts(dtype),
+                passes)  # fmt: skip
+        seconds = timed(lambda args=args: kernels.compact(*args), rounds)
+        ground = kernels.ground_share(con, scene.pair, scene.dummy, scene.weight_impulse)
+        rows.append(_row(f"compact, narrowphase order, {name}", seconds, scene, passes,
+                         packed_instructions(kernels.compact), ground))  # fmt: skip
+        for blocks in (False, True):
+            args = scene.coloured_args(dtype, passes, blocks)
+            seconds = timed(lambda args=args: kernels.coloured(*args), rounds)
+            ground = kernels.ground_share(args[1], args[2], scene.dummy, scene.weight_impulse)
+            solve = kernels.solve_blocks if blocks else kernels.solve_lanes
+            label = f"coloured ({scene.starts.size - 1} colours){', blocks of 4' * blocks}, {name}"
+            packed = packed_instructions(solve)
+            rows.append(_row(label, seconds, scene, passes, packed, ground))
+        va, vb = np.zeros(n, dtype), np.zeros(n, dtype)
+        acc, mass, sep = (points[:, col].astype(dtype) for col in (NORMAL_J, NORMAL_MASS, SEP0))
+        args = (va, vb, acc, mass, sep, scene.consts(dtype), passes)
+        seconds = timed(lambda args=args: kernels.normals_only(*args), rounds)
+        rows.append(_row(f"floor: normals only, gathered, {name}", seconds, scene, passes,
+                         packed_instructions(kernels.normals_only), float("nan")))  # fmt: skip
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--passes", type=int, default=400)
+    parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--quick", action="store_true", help="a few passes: a smoke test")
+    args = parser.parse_args()
+    passes, rounds = (4, 2) if args.quick else (args.passes, args.rounds)
+    flags = f"SLP vectoriser {'on' if numba.config.SLP_VECTORIZE else 'off'}, loop vectoriser "
+    flags += "on" if numba.config.LOOP_VECTORIZE else "off"
+    target = numba.config.CPU_NAME or llvmlite.binding.get_host_cpu_name()
+    if numba.config.CPU_FEATURES is not None:
+        target += f" [{numba.config.CPU_FEATURES}]"
+    print(f"numba {numba.__version__}, code for {target} ({flags}); "
+          f"20-row pyramid, step 101, {passes} passes, median of {rounds}")  # fmt: skip
+    rows = run(passes, rounds)
+    base = rows[0][1]
+    header = ("kernel", "ns a point a pass", "vs today", "packed ymm/zmm", "ground J / (m g h)")
+    table = [(name, fmt(ns), fmt(ns / base), str(packed), fmt(ground))
+             for name, ns, packed, ground in rows]  # fmt: skip
+    print_table(header, ("<", ">", ">", ">", ">"), table)
+
+
+if __name__ == "__main__":
+    main()
