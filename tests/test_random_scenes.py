@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, note, settings, target
+from hypothesis import HealthCheck, event, given, note, reject, settings, target
 from hypothesis import strategies as st
 
 import impulse2d as p2
@@ -173,6 +173,20 @@ def test_run_until_rest_equals_stepping_one_by_one(scene, cap):
 FREE = {"motions": ("dynamic",), "max_planes": 0, "gravity": False}
 
 
+def wide_angular_excess(scene: sr.Scene) -> float:
+    """``momentum_excess``'s angular drift of a moderate or wide scene, or no example at
+    all when the engine refuses one of its steps: a wide scene can leave the envelope by
+    itself (a 1 mm box struck off-centre at 24 m/s spins past 10^4 rad/s), and a refused
+    step has no momentum to check (that it changes nothing is
+    ``test_wide_scenes_obey_every_law``'s edge family)."""
+    try:
+        _, angular = laws.momentum_excess(built(scene, sleeping=False), scene.dt, STEPS)
+    except p2.EnvelopeError:
+        event("left the envelope")
+        reject()
+    return angular
+
+
 @examples(300)
 @given(scene=sr.scenes(**FREE))
 def test_linear_momentum_is_conserved(scene):
@@ -199,7 +213,7 @@ def test_angular_momentum_of_boxes_is_conserved(scene):
     angular momentum about the origin, ``m (x vy - y vx) + I w`` summed, after each of
     100 steps equals the initial one to 1e-9 of its scale (``sum m |x| |v| + I |w|``):
     contacts push both bodies at one world point (``contacts.follow_bodies``)."""
-    _, angular = laws.momentum_excess(built(scene, sleeping=False), scene.dt, STEPS)
+    angular = wide_angular_excess(scene)
     target(angular, label="angular momentum error / tolerance")
     assert angular <= 1.0, f"angular momentum drifted by {angular:.3g} x 1e-9 of its scale"
 
@@ -214,7 +228,7 @@ def test_angular_momentum_is_conserved_but_for_impacts(scene):
     point that may bounce keeps the Jacobian of the step start, for the bounce's energy:
     each at most ``dt u G``, ``G`` the sizes of the point's pushes summed,
     ``scene_laws.impact_torque_bound``)."""
-    _, angular = laws.momentum_excess(built(scene, sleeping=False), scene.dt, STEPS)
+    angular = wide_angular_excess(scene)
     target(angular, label="angular momentum error beyond the bound / tolerance")
     assert angular <= 1.0, f"angular momentum drifted by {angular:.3g} x 1e-9 beyond the bound"
 
