@@ -22,6 +22,12 @@ constraints, and the figure is the median of ``--rounds`` timed calls over point
   lane arrays, a loop solves the lanes, a scatter loop writes the velocities back;
 * ``coloured, blocks of 4``: the same with each colour padded to a multiple of four and
   solved four lanes at a time, loads before stores (what an SLP vectoriser packs);
+* ``coloured, lane loop vectorised``: the lane loop written so that LLVM's loop
+  vectoriser takes it (``solver_probe_kernels.solve_vector``), bitwise the same lanes;
+* ``coloured, block solve by selects``: the lanes with each manifold's two normals solved
+  together as ``core.solver.solve_pair_normals`` does (today's answer to
+  ``large_pyramid``'s creep), every case computed and the first that holds selected, so
+  the lane loop stays free of branches; lane by lane and vectorised (float64);
 * ``floor``: the soft normal impulse alone over gathered arrays, one array a field: the
   arithmetic a vectorised loop costs, for scale;
 
@@ -128,15 +134,16 @@ class Scene:
         """The kernels' ``consts`` (``solver_probe_kernels.INV_H`` ...) in ``dtype``."""
         return np.array([self.inv_h, self.push, 0.0, 1.0], dtype)
 
-    def coloured_args(self, dtype, passes: int, blocks: bool) -> tuple:
+    def coloured_args(self, dtype, passes: int, how: int) -> tuple:
+        """``solver_probe_kernels.coloured``'s arguments for solving the lanes ``how``."""
         con, pair = self.con[:, self.order], self.pair[self.order]
         starts = self.starts.astype(np.int64)
-        if blocks:
+        if how == kernels.BLOCKS_OF_FOUR:
             con, pair, starts = pad_colours(con, pair, starts, 4, self.dummy)
         con = np.ascontiguousarray(con).astype(dtype)
         lanes = np.zeros((LANE_F, con.shape[1]), dtype)
         states = body_states(self.cap, dtype)
-        return states, con, pair, starts, lanes, self.consts(dtype), passes, blocks
+        return states, con, pair, starts, lanes, self.consts(dtype), passes, how
 
 
 def _row(name, seconds, scene, passes, packed, ground) -> tuple[str, float, int, float]:
@@ -154,21 +161,34 @@ def run(passes: int, rounds: int) -> list[tuple[str, float, int, float]]:
                  packed_instructions(today), ground)]  # fmt: skip
     for dtype in (np.float64, np.float32):
         name = np.dtype(dtype).name
-        con = scene.con.astype(dtype)
-        args = (body_states(cap, dtype), con, scene.pair, scene.consts(dtype),
-                passes)  # fmt: skip
-        seconds = timed(lambda args=args: kernels.compact(*args), rounds)
-        ground = kernels.ground_share(con, scene.pair, scene.dummy, scene.weight_impulse)
-        rows.append(_row(f"compact, narrowphase order, {name}", seconds, scene, passes,
-                         packed_instructions(kernels.compact), ground))  # fmt: skip
-        for blocks in (False, True):
-            args = scene.coloured_args(dtype, passes, blocks)
+        for block in (False, True) if dtype == np.float64 else (False,):
+            kernel = kernels.compact_block if block else kernels.compact
+            con = scene.con.astype(dtype)
+            args = (body_states(cap, dtype), con, scene.pair, scene.consts(dtype), passes)
+            seconds = timed(lambda args=args, kernel=kernel: kernel(*args), rounds)
+            ground = kernels.ground_share(con, scene.pair, scene.dummy, scene.weight_impulse)
+            label = f"compact, narrowphase order{', block solve' * block}, {name}"
+            packed = packed_instructions(kernel)
+            rows.append(_row(label, seconds, scene, passes, packed, ground))
+        for how, solve, label in (
+            (kernels.LANE_BY_LANE, kernels.solve_lanes, ""),
+            (kernels.BLOCKS_OF_FOUR, kernels.solve_blocks, ", blocks of 4"),
+            (kernels.VECTOR, kernels.solve_vector, ", lane loop vectorised"),
+        ):
+            args = scene.coloured_args(dtype, passes, how)
             seconds = timed(lambda args=args: kernels.coloured(*args), rounds)
             ground = kernels.ground_share(args[1], args[2], scene.dummy, scene.weight_impulse)
-            solve = kernels.solve_blocks if blocks else kernels.solve_lanes
-            label = f"coloured ({scene.starts.size - 1} colours){', blocks of 4' * blocks}, {name}"
+            label = f"coloured ({scene.starts.size - 1} colours){label}, {name}"
             packed = packed_instructions(solve)
             rows.append(_row(label, seconds, scene, passes, packed, ground))
+        for vector in (False, True) if dtype == np.float64 else ():
+            args = (*scene.coloured_args(dtype, passes, kernels.LANE_BY_LANE)[:-1], vector)
+            seconds = timed(lambda args=args: kernels.coloured_block(*args), rounds)
+            ground = kernels.ground_share(args[1], args[2], scene.dummy, scene.weight_impulse)
+            solve = kernels.solve_vector_block if vector else kernels.solve_lanes_block
+            how = "lane loop vectorised" if vector else "lane by lane"
+            label = f"coloured, block solve by selects, {how}, {name}"
+            rows.append(_row(label, seconds, scene, passes, packed_instructions(solve), ground))
         va, vb = np.zeros(n, dtype), np.zeros(n, dtype)
         acc, mass, sep = (points[:, col].astype(dtype) for col in (NORMAL_J, NORMAL_MASS, SEP0))
         args = (va, vb, acc, mass, sep, scene.consts(dtype), passes)

@@ -22,6 +22,7 @@ two-point block solve), then both frictions, within the cone. The soft normal ro
 
 from __future__ import annotations
 
+import llvmlite.binding
 import numba
 import numpy as np
 
@@ -51,6 +52,13 @@ from impulse2d.core.workspace import (
     X0,
     Y0,
 )
+
+# LLVM's loop vectoriser gives up on a loop that needs more run-time alias checks than
+# these limits (8 by default): ``solve_vector`` needs dozens. Process-wide LLVM options;
+# they only let more loops vectorise, which changes no result (no fast-math).
+for _option in ("-runtime-memory-check-threshold=512", "-vectorize-memory-check-threshold=4096",
+                "-memory-check-merge-threshold=4096"):  # fmt: skip
+    llvmlite.binding.set_option("", _option)
 
 # body state columns (4 and 7 unused: a row is 8 wide)
 SVX, SVY, SW, SDX, SDY, SDQ = 0, 1, 2, 4, 5, 6
@@ -89,52 +97,210 @@ def _soft_normal(acc, mass, s, vn, rate, soft_mass, soft_impulse, consts):
 
 
 @numba.njit(nogil=True, inline="always")
-def _point_normal(con, m, p, v, consts):
-    """Point ``p``'s normal solve: ``(v updated, new impulse, new largest increment)``."""
+def _row(c, p, v):
+    """Point ``p``'s separation now (``C`` at the step start plus ``J . dq``) and its
+    normal relative velocity ``J . V``."""
     vax, vay, wa, dxa, dya, dqa, vbx, vby, wb, dxb, dyb, dqb = v
     base = POINT0 + p * PER_POINT
-    nx, ny = con[CNX, m], con[CNY, m]
-    rna, rnb = con[base + PRNA, m], con[base + PRNB, m]
-    s = con[base + PSEP0, m] + nx * (dxb - dxa) + ny * (dyb - dya) + rnb * dqb - rna * dqa
-    vn = nx * (vbx - vax) + ny * (vby - vay) + rnb * wb - rna * wa
-    acc = con[base + PNJ, m]
-    new = _soft_normal(acc, con[base + PNM, m], s, vn, con[CBIAS_RATE, m], con[CMASS_SCALE, m],
-                       con[CIMPULSE_SCALE, m], consts)  # fmt: skip
-    d = new - acc
-    ima, imb, iia, iib = con[CIMA, m], con[CIMB, m], con[CIIA, m], con[CIIB, m]
-    v = (vax - ima * d * nx, vay - ima * d * ny, wa - iia * rna * d, dxa, dya, dqa,
-         vbx + imb * d * nx, vby + imb * d * ny, wb + iib * rnb * d, dxb, dyb, dqb)  # fmt: skip
-    return v, new, max(con[base + PMAXJ, m], d)
+    nx, ny, rna, rnb = c[CNX], c[CNY], c[base + PRNA], c[base + PRNB]
+    s = c[base + PSEP0] + nx * (dxb - dxa) + ny * (dyb - dya) + rnb * dqb - rna * dqa
+    return s, nx * (vbx - vax) + ny * (vby - vay) + rnb * wb - rna * wa
 
 
 @numba.njit(nogil=True, inline="always")
-def _point_friction(con, m, p, v, normal):
+def _push_normal(c, p, v, d):
+    """``v`` after an impulse ``d`` along the normal at point ``p`` (on B; minus on A)."""
+    vax, vay, wa, dxa, dya, dqa, vbx, vby, wb, dxb, dyb, dqb = v
+    base = POINT0 + p * PER_POINT
+    nx, ny, rna, rnb = c[CNX], c[CNY], c[base + PRNA], c[base + PRNB]
+    ima, imb, iia, iib = c[CIMA], c[CIMB], c[CIIA], c[CIIB]
+    return (vax - ima * d * nx, vay - ima * d * ny, wa - iia * rna * d, dxa, dya, dqa,
+            vbx + imb * d * nx, vby + imb * d * ny, wb + iib * rnb * d, dxb, dyb, dqb)  # fmt: skip
+
+
+@numba.njit(nogil=True, inline="always")
+def _point_normal(c, p, v, consts):
+    """Point ``p``'s normal solve: ``(v updated, new impulse, new largest increment)``."""
+    s, vn = _row(c, p, v)
+    base = POINT0 + p * PER_POINT
+    acc = c[base + PNJ]
+    new = _soft_normal(acc, c[base + PNM], s, vn, c[CBIAS_RATE], c[CMASS_SCALE],
+                       c[CIMPULSE_SCALE], consts)  # fmt: skip
+    return _push_normal(c, p, v, new - acc), new, max(c[base + PMAXJ], new - acc)
+
+
+@numba.njit(nogil=True, inline="always")
+def _soft_coefficients(c, s, inv_h, push):
+    """``(mass_scale, bias, impulse_scale)`` of a point at separation ``s``."""
+    if s > 0.0:
+        return 1.0, s * inv_h, 0.0
+    mass_scale = c[CMASS_SCALE]
+    return mass_scale, max(mass_scale * c[CBIAS_RATE] * s, -push), c[CIMPULSE_SCALE]
+
+
+@numba.njit(nogil=True, inline="always")
+def _block_increments(c, v, consts):
+    """Both normal increments of a two-point manifold at once, as ``core.solver``'s
+    ``solve_pair_normals`` finds them (the 2x2 complementarity problem of the soft rows,
+    its four cases tried in order): ``(found, d0, d1)``. float64 only."""
+    ima, imb, iia, iib = c[CIMA], c[CIMB], c[CIIA], c[CIIB]
+    b0, b1 = POINT0, POINT0 + PER_POINT
+    rna0, rnb0, rna1, rnb1 = c[b0 + PRNA], c[b0 + PRNB], c[b1 + PRNA], c[b1 + PRNB]
+    k11 = ima + imb + iia * rna0 * rna0 + iib * rnb0 * rnb0
+    k22 = ima + imb + iia * rna1 * rna1 + iib * rnb1 * rnb1
+    k12 = ima + imb + iia * rna0 * rna1 + iib * rnb0 * rnb1
+    if not k11 * k22 - k12 * k12 > 1e-3 * k11 * k22:
+        return False, 0.0, 0.0
+    (s0, vn0), (s1, vn1) = _row(c, 0, v), _row(c, 1, v)
+    ms0, bias0, is0 = _soft_coefficients(c, s0, consts[INV_H], consts[PUSH])
+    ms1, bias1, is1 = _soft_coefficients(c, s1, consts[INV_H], consts[PUSH])
+    acc0, acc1 = c[b0 + PNJ], c[b1 + PNJ]
+    a11, a12, r1 = ms0 * k11 + is0 * k11, ms0 * k12, -(ms0 * vn0 + bias0 + is0 * k11 * acc0)
+    a21, a22, r2 = ms1 * k12, ms1 * k22 + is1 * k22, -(ms1 * vn1 + bias1 + is1 * k22 * acc1)
+    det = a11 * a22 - a12 * a21
+    if det != 0.0:  # both push
+        d0, d1 = (r1 * a22 - a12 * r2) / det, (a11 * r2 - a21 * r1) / det
+        if acc0 + d0 >= 0.0 and acc1 + d1 >= 0.0:
+            return True, d0, d1
+    d1 = -acc1  # only the first pushes
+    d0 = (r1 - a12 * d1) / a11
+    if acc0 + d0 >= 0.0 and a21 * d0 + a22 * d1 - r2 >= 0.0:
+        return True, d0, d1
+    d0 = -acc0  # only the second
+    d1 = (r2 - a21 * d0) / a22
+    if acc1 + d1 >= 0.0 and a11 * d0 + a12 * d1 - r1 >= 0.0:
+        return True, d0, d1
+    d0, d1 = -acc0, -acc1  # neither
+    return a11 * d0 + a12 * d1 - r1 >= 0.0 and a21 * d0 + a22 * d1 - r2 >= 0.0, d0, d1
+
+
+@numba.njit(nogil=True, inline="always")
+def _block_normals(c, v, consts):
+    """Both normals together, or one after the other where the block has no solution:
+    ``(v, n0, max0, n1, max1)``."""
+    found, d0, d1 = _block_increments(c, v, consts)
+    if not found:
+        v, n0, max0 = _point_normal(c, 0, v, consts)
+        v, n1, max1 = _point_normal(c, 1, v, consts)
+        return v, n0, max0, n1, max1
+    b0, b1 = POINT0, POINT0 + PER_POINT
+    v = _push_normal(c, 1, _push_normal(c, 0, v, d0), d1)
+    n0, n1 = c[b0 + PNJ] + d0, c[b1 + PNJ] + d1
+    return v, n0, max(c[b0 + PMAXJ], d0), n1, max(c[b1 + PMAXJ], d1)
+
+
+@numba.njit(nogil=True, inline="always")
+def _point_friction(c, p, v, normal):
     """Point ``p``'s friction within ``friction * normal``: ``(v updated, new impulse)``."""
     vax, vay, wa, dxa, dya, dqa, vbx, vby, wb, dxb, dyb, dqb = v
     base = POINT0 + p * PER_POINT
-    nx, ny = con[CNX, m], con[CNY, m]
-    rta, rtb = con[base + PRTA, m], con[base + PRTB, m]
+    nx, ny = c[CNX], c[CNY]
+    rta, rtb = c[base + PRTA], c[base + PRTB]
     vt = ny * (vbx - vax) - nx * (vby - vay) + rtb * wb - rta * wa  # t = (n_y, -n_x)
-    limit = con[CFRICTION, m] * normal
-    old = con[base + PTJ, m]
-    new = min(max(old - con[base + PTM, m] * vt, -limit), limit)
+    limit = c[CFRICTION] * normal
+    old = c[base + PTJ]
+    new = min(max(old - c[base + PTM] * vt, -limit), limit)
     d = new - old
-    ima, imb, iia, iib = con[CIMA, m], con[CIMB, m], con[CIIA, m], con[CIIB, m]
+    ima, imb, iia, iib = c[CIMA], c[CIMB], c[CIIA], c[CIIB]
     v = (vax - ima * d * ny, vay + ima * d * nx, wa - iia * rta * d, dxa, dya, dqa,
          vbx + imb * d * ny, vby - imb * d * nx, wb + iib * rtb * d, dxb, dyb, dqb)  # fmt: skip
     return v, new
 
 
 @numba.njit(nogil=True, inline="always")
-def manifold(con, m, v, consts):
-    """Manifold ``m`` solved from the 12 lane values ``v`` as a pure function of what it
-    loads: ``(v, impulses)``, the impulses ``(normal, largest, friction)`` of each point.
-    Nothing is stored here, so a block of lanes can load everything before it stores."""
-    v, n0, max0 = _point_normal(con, m, 0, v, consts)
-    v, n1, max1 = _point_normal(con, m, 1, v, consts)
-    v, t0 = _point_friction(con, m, 0, v, n0)
-    v, t1 = _point_friction(con, m, 1, v, n1)
+def manifold(c, v, consts):
+    """A manifold solved from its constraint values ``c`` (CON_F) and the 12 lane values
+    ``v``, a pure function of values: ``(v, impulses)``, the impulses ``(normal, largest,
+    friction)`` of each point. Nothing is loaded or stored here, so a block of lanes can
+    load everything before it stores, and a lane loop holds no call that takes an array."""
+    v, n0, max0 = _point_normal(c, 0, v, consts)
+    v, n1, max1 = _point_normal(c, 1, v, consts)
+    v, t0 = _point_friction(c, 0, v, n0)
+    v, t1 = _point_friction(c, 1, v, n1)
     return v, (n0, max0, t0, n1, max1, t1)
+
+
+@numba.njit(nogil=True, inline="always")
+def manifold_block(c, v, consts):
+    """``manifold`` with the two normals solved together (``_block_normals``)."""
+    v, n0, max0, n1, max1 = _block_normals(c, v, consts)
+    v, t0 = _point_friction(c, 0, v, n0)
+    v, t1 = _point_friction(c, 1, v, n1)
+    return v, (n0, max0, t0, n1, max1, t1)
+
+
+@numba.njit(nogil=True, inline="always")
+def _block_select(c, v, consts):
+    """``_block_increments`` without branches: every case computed, the first that holds
+    selected (the loop vectoriser turns selects into blends, not branches). Lanes whose
+    cases divide by zero (the padding, a degenerate block) select nothing from them."""
+    ima, imb, iia, iib = c[CIMA], c[CIMB], c[CIIA], c[CIIB]
+    b0, b1 = POINT0, POINT0 + PER_POINT
+    rna0, rnb0, rna1, rnb1 = c[b0 + PRNA], c[b0 + PRNB], c[b1 + PRNA], c[b1 + PRNB]
+    k11 = ima + imb + iia * rna0 * rna0 + iib * rnb0 * rnb0
+    k22 = ima + imb + iia * rna1 * rna1 + iib * rnb1 * rnb1
+    k12 = ima + imb + iia * rna0 * rna1 + iib * rnb0 * rnb1
+    solvable = k11 * k22 - k12 * k12 > 1e-3 * k11 * k22
+    (s0, vn0), (s1, vn1) = _row(c, 0, v), _row(c, 1, v)
+    ms0, bias0, is0 = _soft_select(c, s0, consts)
+    ms1, bias1, is1 = _soft_select(c, s1, consts)
+    acc0, acc1 = c[b0 + PNJ], c[b1 + PNJ]
+    a11, a12, r1 = ms0 * k11 + is0 * k11, ms0 * k12, -(ms0 * vn0 + bias0 + is0 * k11 * acc0)
+    a21, a22, r2 = ms1 * k12, ms1 * k22 + is1 * k22, -(ms1 * vn1 + bias1 + is1 * k22 * acc1)
+    det = a11 * a22 - a12 * a21
+    safe_det = det if det != 0.0 else 1.0
+    both0, both1 = (r1 * a22 - a12 * r2) / safe_det, (a11 * r2 - a21 * r1) / safe_det
+    ok_both = det != 0.0 and acc0 + both0 >= 0.0 and acc1 + both1 >= 0.0
+    first0 = (r1 + a12 * acc1) / (a11 if a11 != 0.0 else 1.0)
+    ok_first = acc0 + first0 >= 0.0 and a21 * first0 - a22 * acc1 - r2 >= 0.0
+    second1 = (r2 + a21 * acc0) / (a22 if a22 != 0.0 else 1.0)
+    ok_second = acc1 + second1 >= 0.0 and -a11 * acc0 + a12 * second1 - r1 >= 0.0
+    ok_neither = -a11 * acc0 - a12 * acc1 - r1 >= 0.0 and -a21 * acc0 - a22 * acc1 - r2 >= 0.0
+    d0 = both0 if ok_both else (first0 if ok_first else -acc0)
+    d1 = both1 if ok_both else (-acc1 if ok_first else (second1 if ok_second else -acc1))
+    found = solvable and (ok_both or ok_first or ok_second or ok_neither)
+    return found, d0, d1
+
+
+@numba.njit(nogil=True, inline="always")
+def _soft_select(c, s, consts):
+    """``_soft_coefficients`` by selects."""
+    gap = s > 0.0
+    mass_scale = c[CMASS_SCALE]
+    soft_bias = max(mass_scale * c[CBIAS_RATE] * s, -consts[PUSH])
+    return (1.0 if gap else mass_scale, s * consts[INV_H] if gap else soft_bias,
+            0.0 if gap else c[CIMPULSE_SCALE])  # fmt: skip
+
+
+@numba.njit(nogil=True, inline="always")
+def manifold_block_select(c, v, consts):
+    """``manifold_block`` by selects: the block and the one-after-the-other solves both
+    computed, the block's taken where it holds (float64 only)."""
+    found, d0, d1 = _block_select(c, v, consts)
+    v_seq, n0, max0 = _point_normal(c, 0, v, consts)
+    v_seq, n1, max1 = _point_normal(c, 1, v_seq, consts)
+    v_block = _push_normal(c, 1, _push_normal(c, 0, v, d0), d1)
+    b0, b1 = POINT0, POINT0 + PER_POINT
+    n0 = c[b0 + PNJ] + d0 if found else n0
+    n1 = c[b1 + PNJ] + d1 if found else n1
+    max0 = max(c[b0 + PMAXJ], d0) if found else max0
+    max1 = max(c[b1 + PMAXJ], d1) if found else max1
+    v = (v_block[0] if found else v_seq[0], v_block[1] if found else v_seq[1],
+         v_block[2] if found else v_seq[2], v[3], v[4], v[5],
+         v_block[6] if found else v_seq[6], v_block[7] if found else v_seq[7],
+         v_block[8] if found else v_seq[8], v[9], v[10], v[11])  # fmt: skip
+    v, t0 = _point_friction(c, 0, v, n0)
+    v, t1 = _point_friction(c, 1, v, n1)
+    return v, (n0, max0, t0, n1, max1, t1)
+
+
+@numba.njit(nogil=True, inline="always")
+def _con_values(con, m):
+    a = (con[0, m], con[1, m], con[2, m], con[3, m], con[4, m], con[5, m], con[6, m])
+    b = (con[7, m], con[8, m], con[9, m], con[10, m], con[11, m], con[12, m], con[13, m])
+    d = (con[14, m], con[15, m], con[16, m], con[17, m], con[18, m], con[19, m], con[20, m])
+    e = (con[21, m], con[22, m], con[23, m], con[24, m], con[25, m], con[26, m], con[27, m])
+    return a + b + d + e + (con[28, m], con[29, m])
 
 
 @numba.njit(nogil=True, inline="always")
@@ -153,20 +319,31 @@ def _state(states, a, b):
             states[b, SDY], states[b, SDQ])  # fmt: skip
 
 
-@numba.njit(nogil=True)
-def compact(states, con, pair, consts, passes):
-    """Gauss-Seidel in the narrowphase's order, the body states read and written in place."""
-    consts = _values(consts)
+@numba.njit(nogil=True, inline="always")
+def _compact(states, con, pair, consts, passes, solve):
     dummy = states.shape[0] - 1
+    consts = _values(consts)
     for _ in range(passes):
         for m in range(pair.shape[0]):
             a, b = pair[m, 0], pair[m, 1]
-            v, impulses = manifold(con, m, _state(states, a, b), consts)
+            v, impulses = solve(_con_values(con, m), _state(states, a, b), consts)
             _store_impulses(con, m, impulses)
             if a != dummy:
                 states[a, SVX], states[a, SVY], states[a, SW] = v[0], v[1], v[2]
             if b != dummy:
                 states[b, SVX], states[b, SVY], states[b, SW] = v[6], v[7], v[8]
+
+
+@numba.njit(nogil=True)
+def compact(states, con, pair, consts, passes):
+    """Gauss-Seidel in the narrowphase's order, the body states read and written in place."""
+    _compact(states, con, pair, consts, passes, manifold)
+
+
+@numba.njit(nogil=True)
+def compact_block(states, con, pair, consts, passes):
+    """``compact`` with each manifold's two normals solved together (float64 only)."""
+    _compact(states, con, pair, consts, passes, manifold_block)
 
 
 @numba.njit(nogil=True)
@@ -207,12 +384,23 @@ def _store_lane(con, lanes, m, solved):
     _store_impulses(con, m, impulses)
 
 
+@numba.njit(nogil=True, inline="always")
+def _solve_lanes(con, lanes, start, end, consts, solve):
+    consts = _values(consts)
+    for m in range(start, end):
+        _store_lane(con, lanes, m, solve(_con_values(con, m), _lane_values(lanes, m), consts))
+
+
 @numba.njit(nogil=True)
 def solve_lanes(con, lanes, start, end, consts):
     """One colour's lanes, one after the other (they share no moving body)."""
-    consts = _values(consts)
-    for m in range(start, end):
-        _store_lane(con, lanes, m, manifold(con, m, _lane_values(lanes, m), consts))
+    _solve_lanes(con, lanes, start, end, consts, manifold)
+
+
+@numba.njit(nogil=True)
+def solve_lanes_block(con, lanes, start, end, consts):
+    """``solve_lanes`` with the block solve chosen by selects (``manifold_block_select``)."""
+    _solve_lanes(con, lanes, start, end, consts, manifold_block_select)
 
 
 @numba.njit(nogil=True)
@@ -222,28 +410,85 @@ def solve_blocks(con, lanes, start, end, consts):
     when numba enables it (``NUMBA_SLP_VECTORIZE=1``; numba's default is off)."""
     consts = _values(consts)
     for m in range(start, end, 4):
-        s0 = manifold(con, m, _lane_values(lanes, m), consts)
-        s1 = manifold(con, m + 1, _lane_values(lanes, m + 1), consts)
-        s2 = manifold(con, m + 2, _lane_values(lanes, m + 2), consts)
-        s3 = manifold(con, m + 3, _lane_values(lanes, m + 3), consts)
+        s0 = manifold(_con_values(con, m), _lane_values(lanes, m), consts)
+        s1 = manifold(_con_values(con, m + 1), _lane_values(lanes, m + 1), consts)
+        s2 = manifold(_con_values(con, m + 2), _lane_values(lanes, m + 2), consts)
+        s3 = manifold(_con_values(con, m + 3), _lane_values(lanes, m + 3), consts)
         _store_lane(con, lanes, m, s0)
         _store_lane(con, lanes, m + 1, s1)
         _store_lane(con, lanes, m + 2, s2)
         _store_lane(con, lanes, m + 3, s3)
 
 
+@numba.njit(nogil=True, inline="always")
+def _solve_vector(con, lanes, start, end, consts, solve):
+    """A colour's lanes in the form LLVM's loop vectoriser takes: every load and store
+    written in the loop itself (an inlined helper that takes an array leaves numba's
+    reference-count calls in the loop when the vectoriser runs), the index unsigned (no
+    negative-index wrap-around), and the run-time alias checks allowed by the LLVM
+    options set above (each pair of a stored row and another row of the same array needs
+    one: their distance is a run-time shape). Lane arithmetic is IEEE elementwise, so the
+    vectorised loop is bitwise the scalar one."""
+    consts = _values(consts)
+    for m in range(np.uint64(start), np.uint64(end)):
+        a = (lanes[0, m], lanes[1, m], lanes[2, m], lanes[3, m], lanes[4, m], lanes[5, m])
+        b = (lanes[6, m], lanes[7, m], lanes[8, m], lanes[9, m], lanes[10, m], lanes[11, m])
+        c0 = (con[0, m], con[1, m], con[2, m], con[3, m], con[4, m], con[5, m], con[6, m])
+        c1 = (con[7, m], con[8, m], con[9, m], con[10, m], con[11, m], con[12, m], con[13, m])
+        c2 = (con[14, m], con[15, m], con[16, m], con[17, m], con[18, m], con[19, m], con[20, m])
+        c3 = (con[21, m], con[22, m], con[23, m], con[24, m], con[25, m], con[26, m], con[27, m])
+        v, j = solve(c0 + c1 + c2 + c3 + (con[28, m], con[29, m]), a + b, consts)
+        lanes[LVAX, m], lanes[LVAY, m], lanes[LWA, m] = v[0], v[1], v[2]
+        lanes[LVBX, m], lanes[LVBY, m], lanes[LWB, m] = v[6], v[7], v[8]
+        con[POINT0 + PNJ, m], con[POINT0 + PMAXJ, m], con[POINT0 + PTJ, m] = j[0], j[1], j[2]
+        second = POINT0 + PER_POINT
+        con[second + PNJ, m], con[second + PMAXJ, m], con[second + PTJ, m] = j[3], j[4], j[5]
+
+
 @numba.njit(nogil=True)
-def coloured(states, con, pair, starts, lanes, consts, passes, blocks):
+def solve_vector(con, lanes, start, end, consts):
+    """``solve_lanes`` vectorised (``_solve_vector``)."""
+    _solve_vector(con, lanes, start, end, consts, manifold)
+
+
+@numba.njit(nogil=True)
+def solve_vector_block(con, lanes, start, end, consts):
+    """``solve_lanes_block`` vectorised (float64 only)."""
+    _solve_vector(con, lanes, start, end, consts, manifold_block_select)
+
+
+# How each colour's lanes are solved (``coloured``'s ``how``).
+LANE_BY_LANE, BLOCKS_OF_FOUR, VECTOR = 0, 1, 2
+
+
+@numba.njit(nogil=True)
+def coloured(states, con, pair, starts, lanes, consts, passes, how):
     """Colour after colour (``starts``: each colour's first manifold): gather, solve the
-    lanes (``blocks``: in blocks of four), scatter."""
+    lanes (``how``), scatter."""
     for _ in range(passes):
         for c in range(starts.shape[0] - 1):
             start, end = starts[c], starts[c + 1]
             gather(states, pair, lanes, start, end)
-            if blocks:
+            if how == BLOCKS_OF_FOUR:
                 solve_blocks(con, lanes, start, end, consts)
+            elif how == VECTOR:
+                solve_vector(con, lanes, start, end, consts)
             else:
                 solve_lanes(con, lanes, start, end, consts)
+            scatter(states, pair, lanes, start, end)
+
+
+@numba.njit(nogil=True)
+def coloured_block(states, con, pair, starts, lanes, consts, passes, vector):
+    """``coloured`` with the block solve by selects, lane by lane or vectorised (float64)."""
+    for _ in range(passes):
+        for c in range(starts.shape[0] - 1):
+            start, end = starts[c], starts[c + 1]
+            gather(states, pair, lanes, start, end)
+            if vector:
+                solve_vector_block(con, lanes, start, end, consts)
+            else:
+                solve_lanes_block(con, lanes, start, end, consts)
             scatter(states, pair, lanes, start, end)
 
 
