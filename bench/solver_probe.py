@@ -39,7 +39,11 @@ Gauss-Seidel in another order converges to the same answer, not to the same bits
 Rerun with ``NUMBA_SLP_VECTORIZE=1`` (numba's SLP vectoriser, off by default) and
 ``NUMBA_LOOP_VECTORIZE=0`` to see what each vectoriser does.
 
-Run: ``python bench/solver_probe.py`` (about 30 s, most of it compiling); ``--quick``.
+``--scene pool`` takes the 16-ball pool break's 11th step instead (one-point contacts,
+tens of them: the small world where colouring may not pay). The last line gives what
+colouring costs a step (greedy colours, then the manifolds sorted into colour order).
+
+Run: ``python bench/solver_probe.py`` (about 40 s, most of it compiling); ``--quick``.
 """
 
 from __future__ import annotations
@@ -59,12 +63,12 @@ from impulse2d.core.workspace import NORMAL_J, NORMAL_MASS, SEP0, Workspace, vie
 
 try:
     from bench import solver_probe_kernels as kernels
-    from bench.profile_step import _arrays, _stages, pyramid_case
+    from bench.profile_step import _arrays, _stages, pool_single_case, pyramid_case
     from bench.report import fmt, print_table
     from bench.solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
 except ImportError:
     import solver_probe_kernels as kernels
-    from profile_step import _arrays, _stages, pyramid_case
+    from profile_step import _arrays, _stages, pool_single_case, pyramid_case
     from report import fmt, print_table
     from solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
 
@@ -76,9 +80,20 @@ def today(body, ctx, terms, points, ids, n, passes):
         solver.sweep(body, 0, ctx, terms, points, ids, n, True, False)
 
 
-def capture() -> dict:
-    """The prepared contact points of the 20-row pyramid's 101st step, and its bodies."""
-    case = pyramid_case(20, 100)
+# What --scene captures: the pyramid's 101st step (settled, every contact resting) and the
+# pool break's 11th (the rack still together, 30 contacts).
+SCENES = {
+    "pyramid": lambda: pyramid_case(20, 100),
+    "pool": lambda: pool_single_case(10),
+}
+
+
+SCENES_SAID = {"pyramid": "20 rows, step 101", "pool": "16-ball break, step 11"}
+
+
+def capture(scene: str = "pyramid") -> dict:
+    """The prepared contact points of the scene's captured step (``SCENES``), and its bodies."""
+    case = SCENES[scene]()
     state = tuple(a.copy() for a in _arrays(case.saved))
     caps = case.caps
     space = Workspace(1, case.saved.body.shape[1], int(caps[0]), int(caps[1]))
@@ -119,8 +134,8 @@ def timed(call, rounds: int) -> float:
 class Scene:
     """The captured step in every layout the kernels take."""
 
-    def __init__(self) -> None:
-        self.cap = cap = capture()
+    def __init__(self, name: str = "pyramid") -> None:
+        self.cap = cap = capture(name)
         self.n, ctx = cap["n"], cap["ctx"]
         self.inv_h, self.push = ctx[context.INV_H], ctx[context.PUSH_SPEED]
         self.con, self.pair = manifolds(cap)
@@ -128,7 +143,9 @@ class Scene:
         colours = colour(self.pair, self.dummy)
         self.order = np.argsort(colours, kind="stable")
         self.starts = np.searchsorted(colours[self.order], np.arange(colours.max() + 2))
-        self.weight_impulse = float(cap["movable"].sum()) * 9.81 * ctx[context.H]
+        # the pyramid's weight over a substep (the pool table has no ground: nan)
+        weight = float(cap["movable"].sum()) * 9.81 * ctx[context.H]
+        self.weight_impulse = weight if name == "pyramid" else float("nan")
 
     def consts(self, dtype) -> np.ndarray:
         """The kernels' ``consts`` (``solver_probe_kernels.INV_H`` ...) in ``dtype``."""
@@ -150,8 +167,22 @@ def _row(name, seconds, scene, passes, packed, ground) -> tuple[str, float, int,
     return name, seconds / (scene.n * passes) * 1e9, packed, ground
 
 
-def run(passes: int, rounds: int) -> list[tuple[str, float, int, float]]:
-    scene = Scene()
+def colouring_ns(scene: Scene, rounds: int) -> float:
+    """ns a point of colouring a step's manifolds and sorting them into colour order."""
+    con, pair = scene.con, scene.pair
+    out = (np.zeros(pair.shape[0], np.int64), np.empty_like(con), np.empty_like(pair),
+           np.zeros(65, np.int64))  # fmt: skip
+    repeats = 200
+
+    def call():
+        for _ in range(repeats):
+            kernels.colour_and_sort(con, pair, scene.dummy, *out)
+
+    return timed(call, rounds) / (repeats * scene.n) * 1e9
+
+
+def run(passes: int, rounds: int, name: str = "pyramid") -> tuple[list[tuple], Scene]:
+    scene = Scene(name)
     cap, n = scene.cap, scene.n
     body, points = cap["body"].copy(), cap["points"].copy()
     seconds = timed(lambda: today(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes),
@@ -195,13 +226,14 @@ def run(passes: int, rounds: int) -> list[tuple[str, float, int, float]]:
         seconds = timed(lambda args=args: kernels.normals_only(*args), rounds)
         rows.append(_row(f"floor: normals only, gathered, {name}", seconds, scene, passes,
                          packed_instructions(kernels.normals_only), float("nan")))  # fmt: skip
-    return rows
+    return rows, scene
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--passes", type=int, default=400)
     parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--scene", choices=list(SCENES), default="pyramid")
     parser.add_argument("--quick", action="store_true", help="a few passes: a smoke test")
     args = parser.parse_args()
     passes, rounds = (4, 2) if args.quick else (args.passes, args.rounds)
@@ -211,13 +243,17 @@ def main() -> None:
     if numba.config.CPU_FEATURES is not None:
         target += f" [{numba.config.CPU_FEATURES}]"
     print(f"numba {numba.__version__}, code for {target} ({flags}); "
-          f"20-row pyramid, step 101, {passes} passes, median of {rounds}")  # fmt: skip
-    rows = run(passes, rounds)
+          f"{args.scene} ({SCENES_SAID[args.scene]}), {passes} passes, "
+          f"median of {rounds}")  # fmt: skip
+    rows, scene = run(passes, rounds, args.scene)
     base = rows[0][1]
     header = ("kernel", "ns a point a pass", "vs today", "packed ymm/zmm", "ground J / (m g h)")
     table = [(name, fmt(ns), fmt(ns / base), str(packed), fmt(ground))
              for name, ns, packed, ground in rows]  # fmt: skip
     print_table(header, ("<", ">", ">", ">", ">"), table)
+    print(f"{scene.n} points in {scene.pair.shape[0]} manifolds, {scene.starts.size - 1} colours; "
+          f"colouring them and sorting into colour order: {fmt(colouring_ns(scene, rounds))} ns "
+          "a point, once a step (a step has two passes a substep)")  # fmt: skip
 
 
 if __name__ == "__main__":

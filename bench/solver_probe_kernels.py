@@ -493,6 +493,52 @@ def coloured_block(states, con, pair, starts, lanes, consts, passes, vector):
 
 
 @numba.njit(nogil=True)
+def colour_manifolds(pair, dummy, colours):
+    """Greedy colouring: each manifold takes the first colour neither of its moving bodies
+    has yet, a 64-bit mask a body; the dummy (every body that cannot move) may be in every
+    manifold of a colour. Returns the number of colours, or -1 past 64."""
+    used = np.zeros(dummy + 1, np.uint64)
+    count = 0
+    for m in range(pair.shape[0]):
+        a, b = pair[m, 0], pair[m, 1]
+        taken = (used[a] if a != dummy else np.uint64(0)) | (
+            used[b] if b != dummy else np.uint64(0)
+        )
+        c = 0
+        while c < 64 and (taken >> np.uint64(c)) & np.uint64(1):
+            c += 1
+        if c == 64:
+            return -1
+        colours[m] = c
+        bit = np.uint64(1) << np.uint64(c)
+        used[a] |= bit
+        used[b] |= bit
+        count = max(count, c + 1)
+    return count
+
+
+@numba.njit(nogil=True)
+def colour_and_sort(con, pair, dummy, colours, sorted_con, sorted_pair, starts):
+    """What colouring costs a step: colour the manifolds, then a counting sort of their
+    constraint columns and body pairs into colour order (``starts``: each colour's first);
+    returns the number of colours."""
+    count = colour_manifolds(pair, dummy, colours)
+    starts[:] = 0
+    for m in range(pair.shape[0]):
+        starts[colours[m] + 1] += 1
+    for c in range(count):
+        starts[c + 1] += starts[c]
+    fill = starts[:count].copy()
+    for m in range(pair.shape[0]):
+        k = fill[colours[m]]
+        fill[colours[m]] += 1
+        sorted_pair[k, 0], sorted_pair[k, 1] = pair[m, 0], pair[m, 1]
+        for f in range(con.shape[0]):
+            sorted_con[f, k] = con[f, m]
+    return count
+
+
+@numba.njit(nogil=True)
 def normals_only(va, vb, acc, mass, sep, consts, passes):
     """The arithmetic floor: one point's soft normal impulse a lane, each field an array of
     its own, the velocities already gathered, no friction, gather or scatter. numba/LLVM
@@ -544,21 +590,10 @@ def manifolds(cap: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def colour(pair: np.ndarray, dummy: int) -> np.ndarray:
-    """Greedy colouring: each manifold takes the first colour neither of its moving bodies
-    has yet (at most 64; the dummy, a body at rest, may be in every manifold of a colour)."""
-    used = np.zeros(dummy + 1, np.uint64)
+    """The colour of each manifold (``colour_manifolds``)."""
     colours = np.zeros(pair.shape[0], np.int64)
-    for m, (a, b) in enumerate(pair):
-        taken = int(used[a] if a != dummy else 0) | int(used[b] if b != dummy else 0)
-        c = 0
-        while taken >> c & 1:
-            c += 1
-        if c >= 64:
-            raise RuntimeError("more than 64 colours")
-        colours[m] = c
-        for body in (a, b):
-            if body != dummy:
-                used[body] = np.uint64(int(used[body]) | 1 << c)
+    if colour_manifolds(pair, dummy, colours) < 0:
+        raise RuntimeError("more than 64 colours")
     return colours
 
 

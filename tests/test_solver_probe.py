@@ -45,6 +45,18 @@ def test_colouring_shares_no_moving_body(scene):
     assert colours.max() + 1 <= 8
 
 
+def test_colour_and_sort_puts_each_colour_together(scene):
+    colours = np.zeros(scene.pair.shape[0], np.int64)
+    sorted_con, sorted_pair = np.empty_like(scene.con), np.empty_like(scene.pair)
+    starts = np.zeros(65, np.int64)
+    count = layout.colour_and_sort(scene.con, scene.pair, scene.dummy, colours, sorted_con,
+                                   sorted_pair, starts)  # fmt: skip
+    assert count == scene.starts.size - 1
+    np.testing.assert_array_equal(starts[: count + 1], scene.starts)
+    np.testing.assert_array_equal(sorted_pair, scene.pair[scene.order])  # a stable sort
+    np.testing.assert_array_equal(sorted_con, scene.con[:, scene.order])
+
+
 def test_padding_keeps_each_colour_and_adds_empty_lanes(scene):
     con, pair = scene.con[:, scene.order], scene.pair[scene.order]
     padded, padded_pair, starts = probe.pad_colours(con, pair, scene.starts, 4, scene.dummy)
@@ -119,10 +131,22 @@ def test_every_order_converges_to_the_same_impulses(scene):
     assert gaps[1] < gaps[0] / 4
 
 
+def test_the_pool_break_has_one_point_manifolds():
+    pool = probe.Scene("pool")
+    second = layout.POINT0 + layout.PER_POINT + layout.PNM
+    assert pool.n == pool.pair.shape[0] and not pool.con[second].any()
+    colours = probe.colour(pool.pair, pool.dummy)
+    for c in range(colours.max() + 1):
+        moving = pool.pair[colours == c]
+        moving = moving[moving != pool.dummy]
+        assert moving.size == np.unique(moving).size
+
+
 def test_the_probe_prints_its_table(capsys, monkeypatch):
     monkeypatch.setattr(sys, "argv", ["solver_probe.py", "--quick"])
     probe.main()
     out = capsys.readouterr().out
+    assert "colouring them and sorting into colour order" in out
     assert "today: core.solver.sweep" in out and "floor: normals only" in out
     assert out.count("float32") == 5 and "packed ymm/zmm" in out
     assert "block solve by selects, lane loop vectorised" in out
