@@ -169,9 +169,10 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
         spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H])
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
+    coloured = pipeline.colour(ctx, scratch, n)
     if stages == 5:
         return n
-    pipeline.substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
+    pipeline.substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured)
     if stages == 6:
         return n
     project_out_of_planes(body, shapes, w, points, ids, n)

@@ -58,8 +58,19 @@ import numba
 import numpy as np
 
 from impulse2d.core import context, solver
+from impulse2d.core.colouring import Coloured, colour_manifolds, pack, unpack
 from impulse2d.core.state import INV_MASS
-from impulse2d.core.workspace import NORMAL_J, NORMAL_MASS, SEP0, Workspace, views
+from impulse2d.core.workspace import (
+    COLOURED,
+    COLOURS,
+    CON_F,
+    NORMAL_J,
+    NORMAL_MASS,
+    SEP0,
+    Workspace,
+    views,
+)
+from impulse2d.core.workspace import LANE_F as LANE_F_ENGINE
 
 try:
     from bench import solver_probe_kernels as kernels
@@ -75,9 +86,29 @@ except ImportError:
 
 @numba.njit(nogil=True)
 def today(body, ctx, terms, points, ids, n, passes):
-    """``passes`` biased sweeps of today's solver over world 0's points."""
+    """``passes`` biased sweeps of the engine's plain-order solver over world 0's points
+    (nothing coloured: the sweep's coloured tuple holds no manifold)."""
+    con, lanes = np.zeros((1, 1)), np.zeros((1, 1))
+    order, starts = np.zeros(1, np.int64), np.zeros(1, np.int64)
     for _ in range(passes):
-        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False,
+                     Coloured(con, lanes, order, starts, 0, n))  # fmt: skip
+
+
+@numba.njit(nogil=True)
+def engine_coloured(body, ctx, terms, points, ids, n, passes):
+    """``passes`` biased sweeps of the engine's solver with the world coloured (what
+    ``pipeline.colour`` does once a step, then ``solver.sweep`` with its manifolds)."""
+    m, bodies = n // 2 + 1, terms.shape[0]
+    con, lanes = np.zeros((CON_F, m)), np.zeros((LANE_F_ENGINE, m))
+    order, found, colours = np.zeros(m, np.int64), np.zeros(m, np.int64), np.zeros(m, np.int64)
+    starts, masks = np.zeros(COLOURS + 1, np.int64), np.zeros(bodies, np.int64)
+    count = colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts)
+    pack(points, order, count, con, ctx[context.RESTITUTION_THRESHOLD])
+    coloured = Coloured(con, lanes, order, starts, count, n - 2 * count)
+    for _ in range(passes):
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, coloured)
+    unpack(points, order, count, con)
 
 
 # What --scene captures: the pyramid's 101st step (settled, every contact resting) and the
@@ -101,11 +132,13 @@ def capture(scene: str = "pyramid") -> dict:
     n = _stages(state, case.world.layout.rows, ctx, 0, space.floats[0], space.ints[0],
                 int(caps[0]), int(caps[1]), 5)  # fmt: skip
     scratch = views(space.floats[0], space.ints[0], state[0].shape[1], int(caps[0]), int(caps[1]))
+    points = scratch.points[:n].copy()
+    points[:, COLOURED] = 0.0  # as the narrowphase left them: every layout starts from here
     return {
         "n": n,
         "body": state[0],
         "terms": scratch.terms.copy(),
-        "points": scratch.points[:n].copy(),
+        "points": points,
         "ids": scratch.point_ids[:n].copy(),
         "ctx": ctx,
         "movable": case.world.state.body[0, :, INV_MASS] > 0.0,
@@ -188,8 +221,14 @@ def run(passes: int, rounds: int, name: str = "pyramid") -> tuple[list[tuple], S
     seconds = timed(lambda: today(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes),
                     rounds)  # fmt: skip
     ground = points[:, NORMAL_J][cap["ids"][:, 0] == 0].sum() / scene.weight_impulse
-    rows = [_row("today: core.solver.sweep, float64 rows", seconds, scene, passes,
+    rows = [_row("plain order: core.solver.sweep, float64 rows", seconds, scene, passes,
                  packed_instructions(today), ground)]  # fmt: skip
+    body, points = cap["body"].copy(), cap["points"].copy()
+    call = lambda: engine_coloured(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes)  # noqa: E731
+    seconds = timed(call, rounds)
+    ground = points[:, NORMAL_J][cap["ids"][:, 0] == 0].sum() / scene.weight_impulse
+    rows.append(_row("engine, coloured: core.solver.sweep with core.lanes", seconds, scene,
+                     passes, packed_instructions(engine_coloured), ground))  # fmt: skip
     for dtype in (np.float64, np.float32):
         name = np.dtype(dtype).name
         for block in (False, True) if dtype == np.float64 else (False,):
@@ -247,7 +286,8 @@ def main() -> None:
           f"median of {rounds}")  # fmt: skip
     rows, scene = run(passes, rounds, args.scene)
     base = rows[0][1]
-    header = ("kernel", "ns a point a pass", "vs today", "packed ymm/zmm", "ground J / (m g h)")
+    header = ("kernel", "ns a point a pass", "vs plain order", "packed ymm/zmm",
+              "ground J / (m g h)")  # fmt: skip
     table = [(name, fmt(ns), fmt(ns / base), str(packed), fmt(ground))
              for name, ns, packed, ground in rows]  # fmt: skip
     print_table(header, ("<", ">", ">", ">", ">"), table)

@@ -18,7 +18,9 @@ from typing import Any
 import numpy as np
 
 from . import _checks, envelope
+from .core import colouring
 from .core.context import (
+    COLOUR_FROM,
     CONTEXT_SIZE,
     DAMAGE_SPEED,
     DT,
@@ -188,5 +190,6 @@ class Settings:
         ctx[DAMAGE_SPEED] = v["damage_speed"]
         ctx[RESTITUTION_RULE] = MIXING_RULES.index(v["restitution_mixing"])
         ctx[FRICTION_RULE] = MIXING_RULES.index(v["friction_mixing"])
+        ctx[COLOUR_FROM] = colouring.COLOUR_FROM_POINTS  # read here: a test may set it
         self._context = (dt, ctx)
         return ctx

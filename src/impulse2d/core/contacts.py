@@ -65,6 +65,7 @@ from .workspace import (
     ACCEL_Y,
     APPROACH_SPEED,
     BIAS_RATE,
+    COLOURED,
     DRIFT,
     GROSS_J,
     HALF_SPEC,
@@ -265,6 +266,8 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
+        if points[k, COLOURED] != 0.0:
+            continue  # lanes.follow_coloured moves it
         a, b = ids[k, 0], ids[k, 1]
         bounces = points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold
         keep = points[k, KEEP]

@@ -19,7 +19,8 @@ SPECULATIVE = 14
 SLEEPING, TIME_TO_SLEEP, SLEEP_SPEED = 15, 16, 17
 DAMAGE_SPEED = 18
 RESTITUTION_RULE, FRICTION_RULE = 19, 20
-CONTEXT_SIZE = 21
+COLOUR_FROM = 21  # a world of this many points a step or more is coloured (colouring.py)
+CONTEXT_SIZE = 22
 
 
 def soft_constraint(hertz: float, damping_ratio: float, h: float) -> tuple[float, float, float]:

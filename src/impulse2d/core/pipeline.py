@@ -3,7 +3,8 @@
 ``step_world`` is Box2D v3's soft step, for one world, top to bottom:
 
     body terms -> broadphase -> narrowphase -> wake touched islands (and again, until
-    nothing more wakes) -> contact preparation with warm start -> substeps [integrate
+    nothing more wakes) -> contact preparation with warm start -> colouring (a large
+    world's manifolds) -> substeps [integrate
     velocities (gravity, forces, drag, rolling, springs) -> warm start -> solve ->
     integrate positions -> relax] -> restitution -> bodies deep in planes moved out ->
     store contacts, first contacts and damage -> clear forces -> sleep -> broken bodies
@@ -36,6 +37,7 @@ from __future__ import annotations
 from . import context
 from ._jit import JIT_DISABLED, clear_stale_cache, inline, kernel
 from .broadphase import find_pairs
+from .colouring import Coloured, colour_manifolds, pack, unpack
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
 from .events import break_bodies, record_contacts, sense
 from .integrate import (
@@ -46,6 +48,7 @@ from .integrate import (
     spring_stability,
     step_terms,
 )
+from .lanes import follow_coloured, warm_start_coloured
 from .narrowphase import find_points
 from .projection import project_out_of_planes
 from .refusal import leaves_envelope, save_world
@@ -135,20 +138,48 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
 
 
 @inline
-def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n) -> None:
+def colour(ctx, scratch, n):
+    """A world of ``ctx[COLOUR_FROM]`` points or more: its two-point manifolds coloured
+    and packed (``colouring.py``). Returns what the solver's passes take, a
+    ``colouring.Coloured`` (``count`` 0 for a world in plain order)."""
+    count = 0
+    if n >= ctx[context.COLOUR_FROM]:
+        order = scratch.order
+        count = colour_manifolds(scratch.terms, scratch.points, scratch.point_ids, n,
+                                 scratch.masks, scratch.found, scratch.colours, order,
+                                 scratch.starts)  # fmt: skip
+        pack(scratch.points, order, count, scratch.con, ctx[context.RESTITUTION_THRESHOLD])
+    return Coloured(scratch.con, scratch.lanes, scratch.order, scratch.starts, count,
+                    n - 2 * count)  # fmt: skip
+
+
+@inline
+def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
-    soft bias, integrate positions, relax without it; then restitution once."""
+    soft bias, integrate positions, relax without it; then restitution once. A coloured
+    world's manifolds (``coloured``) live in their own columns over the substeps, warm
+    started, solved and their anchors moved there (``lanes.py``); the other points are
+    skipped by ``warm_start`` and ``follow_bodies``, which a world whose points are all
+    coloured does not call."""
     h = ctx[context.H]
     count = int(ctx[context.SUBSTEPS])
     for substep in range(count):
         integrate_velocities(body, w, terms)
         if ends.shape[0]:
             apply_springs(body, body_i, spring, ends, w, terms, h)
-        warm_start(body, w, points, ids, n)
-        solve(body, w, ctx, terms, points, ids, n)
+        if coloured.rest:
+            warm_start(body, w, points, ids, n)
+        if coloured.count:
+            warm_start_coloured(body, w, ids, coloured)
+        solve(body, w, ctx, terms, points, ids, n, coloured)
         integrate_positions(body, w, terms, h)
-        follow_bodies(body, w, ctx, terms, points, ids, n)
-        relax(body, w, ctx, terms, points, ids, n, substep == count - 1)
+        if coloured.rest:
+            follow_bodies(body, w, ctx, terms, points, ids, n)
+        if coloured.count:
+            follow_coloured(body, w, ids, coloured)
+        relax(body, w, ctx, terms, points, ids, n, substep == count - 1, coloured)
+    if coloured.count:  # the coloured points' impulses, back where the rest read them
+        unpack(points, coloured.order, coloured.count, coloured.con)
     restitution(body, w, ctx, terms, points, ids, n)
 
 
@@ -203,7 +234,8 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
             return FAST_SPRING if too_fast else UNSTABLE_SPRING
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
-    substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n)
+    coloured = colour(ctx, scratch, n)
+    substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured)
     project_out_of_planes(body, shapes, w, points, ids, n)
     finish(state, shapes, ends, sensors, w, ctx, scratch, n)
     slot, what = leaves_envelope(body, body_i, shapes, w)

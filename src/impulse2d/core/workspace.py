@@ -75,14 +75,48 @@ KEEP = 31  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follo
 AGAINST_PLANE = 32  # 1.0 if B is a plane (solved last, see solver.sweep)
 GROSS_J = 33  # sum of |normal| + |tangent| of every push over the step (N s)
 DRIFT = 34  # a point that keeps its anchors: the farthest they moved apart this step (m)
-POINT_F = 35
+COLOURED = 35  # 1.0 if the point's manifold is solved in colour (``colouring.py``)
+POINT_F = 36
 MERGED_F = 11  # = state.CONTACT_F: the contact cache being written
+
+# Coloured manifolds (``colouring.py``, ``lanes.py``), field-major ``con[field, m]``: per
+# manifold its normal, friction, step inverse masses and softness, then per point ``p``
+# from ``POINT0 + p * PER_POINT`` its separation at the step start, Jacobian cross terms
+# and masses, what the solver accumulates over the step and what ``follow_bodies`` reads
+# and writes (the columns of the points of the same names: while the substeps run, a
+# coloured point lives here).
+COLOURS = 32  # colours a step (one bit each of an int64 mask a body)
+CNX, CNY, CFRICTION, CIMA, CIMB, CIIA, CIIB, CBIAS_RATE, CMASS_SCALE, CIMPULSE_SCALE = range(10)
+POINT0 = 10
+PSEP0, PRNA, PRNB, PRTA, PRTB, PNORMAL_MASS, PTANGENT_MASS = range(7)
+PNORMAL_J, PTANGENT_J, PSTEP_J, PMAX_J, PGROSS_J = range(7, 12)
+PER_POINT = 12
+# ... and per point from ``FOLLOW0 + p * PER_FOLLOW`` what only ``follow_bodies`` reads
+# (after the columns the lane loop loads, which loads each of its columns in every lane)
+FOLLOW0 = POINT0 + 2 * PER_POINT
+PRAX, PRAY, PRBX, PRBY = range(4)  # the anchors as the narrowphase made them
+PKEEP, PBOUNCES, PDRIFT = 4, 5, 6  # contacts.follow_bodies: KEEP, may it bounce?, DRIFT
+PER_FOLLOW = 7
+CON_F = FOLLOW0 + 2 * PER_FOLLOW
+# Lanes ``lanes[field, m]``: body A's velocity (m/s, rad/s) and its position and rotation
+# deltas since the step start (m, rad), then body B's.
+LVAX, LVAY, LWA, LDXA, LDYA, LDQA, LVBX, LVBY, LWB, LDXB, LDYB, LDQB = range(12)
+LANE_F = 12
+
+
+@inline
+def manifold_room(points: int) -> int:
+    """How many two-point manifolds ``points`` points can make (with one to spare)."""
+    return points // 2 + 1
 
 
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
     """Lengths of one float row and one int row."""
+    manifolds = manifold_room(points)
     floats = bodies * TERMS + points * POINT_F + points * MERGED_F
+    floats += (CON_F + LANE_F) * manifolds
     ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies
+    ints += 3 * manifolds + (COLOURS + 1) + bodies
     return floats, ints
 
 
@@ -118,6 +152,13 @@ class Scratch(NamedTuple):
     buckets: np.ndarray  # (N + 1,) the pairs' counting sort by first body
     parents: np.ndarray  # (N,) islands: union-find parents (sleep)
     members: np.ndarray  # (N,) islands: members in order (sleep)
+    con: np.ndarray  # (CON_F, M) coloured manifolds' constraints, field-major (colouring)
+    lanes: np.ndarray  # (LANE_F, M) a colour's bodies gathered (lanes)
+    order: np.ndarray  # (M,) each coloured manifold's first point, in colour order
+    found: np.ndarray  # (M,) the same in narrowphase order, while colouring
+    colours: np.ndarray  # (M,) the colour of each, while colouring
+    starts: np.ndarray  # (COLOURS + 1,) where each colour begins in ``order``
+    masks: np.ndarray  # (N,) the colours each body is in, while colouring
 
 
 @kernel
@@ -129,6 +170,11 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
     at += points * POINT_F
     merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
+    at += points * MERGED_F
+    manifolds = manifold_room(points)
+    con = floats[at : at + CON_F * manifolds].reshape(CON_F, manifolds)
+    at += CON_F * manifolds
+    lanes = floats[at : at + LANE_F * manifolds].reshape(LANE_F, manifolds)
     at = 0
     pair_rows = ints[at : at + 2 * pairs].reshape(pairs, 2)
     at += 2 * pairs
@@ -143,9 +189,16 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     parents = ints[at : at + bodies]
     at += bodies
     members = ints[at : at + bodies]
+    at += bodies
+    order = ints[at : at + manifolds]
+    found = ints[at + manifolds : at + 2 * manifolds]
+    colours = ints[at + 2 * manifolds : at + 3 * manifolds]
+    at += 3 * manifolds
+    starts = ints[at : at + COLOURS + 1]
+    masks = ints[at + COLOURS + 1 : at + COLOURS + 1 + bodies]
     return Scratch(
         terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
-        parents, members,
+        parents, members, con, lanes, order, found, colours, starts, masks,
     )  # fmt: skip
 
 
@@ -153,6 +206,7 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
     """The arrays ``views`` cuts a row into, as separate ``((shape), dtype)`` each: the
     GPU keeps them apart (``core.gpu``), so each can lie world-innermost."""
     f8, i8 = np.float64, np.int64
+    manifolds = manifold_room(points)
     return Scratch(
         terms=((bodies, TERMS), f8),
         points=((points, POINT_F), f8),
@@ -164,6 +218,13 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
         buckets=((bodies + 1,), i8),
         parents=((bodies,), i8),
         members=((bodies,), i8),
+        con=((CON_F, manifolds), f8),
+        lanes=((LANE_F, manifolds), f8),
+        order=((manifolds,), i8),
+        found=((manifolds,), i8),
+        colours=((manifolds,), i8),
+        starts=((COLOURS + 1,), i8),
+        masks=((bodies,), i8),
     )
 
 
@@ -173,5 +234,6 @@ def scratch_row(parts, j):
     front): one world's ``Scratch``."""
     return Scratch(
         parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
-        parts[6][j], parts[7][j], parts[8][j], parts[9][j],
+        parts[6][j], parts[7][j], parts[8][j], parts[9][j], parts[10][j], parts[11][j],
+        parts[12][j], parts[13][j], parts[14][j], parts[15][j], parts[16][j],
     )  # fmt: skip

@@ -1,0 +1,147 @@
+"""What each stage of a substep costs, plain order against coloured, on a captured step.
+
+The step is ``bench/solver_probe.py``'s capture (the 20-row pyramid's 101st step, or
+``--scene large``: Box2D's ``large_pyramid`` after 20 steps; ``--scene pool``: the break's
+11th), its points as the contact preparation leaves them. Each stage's kernel is called
+``--repeats`` times on the same arrays (the state drifts; the work does not) and the
+median of five such calls is reported in ns a contact point a call. The plain rows run
+the engine's solver with nothing coloured, the coloured rows with the world's manifolds
+coloured and packed as ``pipeline.colour`` does once a step.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/: the probe, the scenes
+import solver_probe
+from engine_runs import _pyramid_world
+from impulse2d.core import colouring, contacts, context, lanes, solver
+from impulse2d.core.workspace import COLOURS, CON_F, LANE_F
+from profile_step import _case
+from report import fmt, print_table
+from scenes import large_pyramid
+
+
+def _large():
+    scene = large_pyramid()
+    world, _ = _pyramid_world(scene)
+    return _case("large_pyramid, after 20 steps", world, scene.dt, 20)
+
+
+solver_probe.SCENES["large"] = _large
+
+
+@numba.njit(nogil=True)
+def _colour(terms, points, ids, n, scratch, repeats):
+    masks, found, colours, order, starts = scratch
+    count = 0
+    for _ in range(repeats):
+        count = colouring.colour_manifolds(terms, points, ids, n, masks, found, colours,
+                                           order, starts)  # fmt: skip
+    return count
+
+
+@numba.njit(nogil=True)
+def _pack(points, order, count, con, threshold, repeats):
+    for _ in range(repeats):
+        colouring.pack(points, order, count, con, threshold)
+
+
+@numba.njit(nogil=True)
+def _sweep(body, ctx, terms, points, ids, n, biased, coloured, repeats):
+    for _ in range(repeats):
+        solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, coloured)
+
+
+@numba.njit(nogil=True)
+def _warm(body, points, ids, n, repeats):
+    for _ in range(repeats):
+        solver.warm_start(body, 0, points, ids, n)
+
+
+@numba.njit(nogil=True)
+def _warm_coloured(body, ids, coloured, repeats):
+    for _ in range(repeats):
+        lanes.warm_start_coloured(body, 0, ids, coloured)
+
+
+@numba.njit(nogil=True)
+def _follow(body, ctx, terms, points, ids, n, repeats):
+    for _ in range(repeats):
+        contacts.follow_bodies(body, 0, ctx, terms, points, ids, n)
+
+
+@numba.njit(nogil=True)
+def _follow_coloured(body, ids, coloured, repeats):
+    for _ in range(repeats):
+        lanes.follow_coloured(body, 0, ids, coloured)
+
+
+def _ns(call, repeats: int, points: int) -> float:
+    call(1)  # compiles
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        call(repeats)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times) / repeats / points * 1e9
+
+
+def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
+    cap = solver_probe.capture(scene)
+    n, body, terms, ids, ctx = cap["n"], cap["body"], cap["terms"], cap["ids"], cap["ctx"]
+    plain_points, points = cap["points"].copy(), cap["points"].copy()
+    m = n // 2 + 1
+    con, lane_rows = np.zeros((CON_F, m)), np.zeros((LANE_F, m))
+    scratch = (np.zeros(terms.shape[0], np.int64), *(np.zeros(m, np.int64) for _ in range(3)),
+               np.zeros(COLOURS + 1, np.int64))  # fmt: skip
+    order, starts = scratch[3], scratch[4]
+    count = _colour(terms, points, ids, n, scratch, 1)
+    threshold = ctx[context.RESTITUTION_THRESHOLD]
+    _pack(points, order, count, con, threshold, 1)
+    coloured = colouring.Coloured(con, lane_rows, order, starts, count, n - 2 * count)
+    plain = colouring.Coloured(con, lane_rows, order, starts, 0, n)
+    rows = [
+        ("solve pass, plain order", lambda r: _sweep(body, ctx, terms, plain_points, ids, n,
+                                                      True, plain, r)),
+        ("solve pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, True,
+                                                  coloured, r)),
+        ("relax pass, plain order", lambda r: _sweep(body, ctx, terms, plain_points, ids, n,
+                                                      False, plain, r)),
+        ("relax pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, False,
+                                                  coloured, r)),
+        ("warm start, plain order", lambda r: _warm(body, plain_points, ids, n, r)),
+        ("warm start, coloured", lambda r: _warm_coloured(body, ids, coloured, r)),
+        ("anchors follow, plain order", lambda r: _follow(body, ctx, terms, plain_points, ids,
+                                                          n, r)),
+        ("anchors follow, coloured", lambda r: _follow_coloured(body, ids, coloured, r)),
+        ("colouring (once a step)", lambda r: _colour(terms, points, ids, n, scratch, r)),
+        ("packing (once a step)", lambda r: _pack(points, order, count, con, threshold, r)),
+    ]  # fmt: skip
+    return n, count, [(name, _ns(call, repeats, n)) for name, call in rows]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scene", choices=["pyramid", "large", "pool"], default="pyramid")
+    parser.add_argument("--repeats", type=int, default=0, help="calls a timing (0: by scene)")
+    parser.add_argument("--quick", action="store_true", help="a few calls: a smoke test")
+    args = parser.parse_args()
+    repeats = args.repeats or {"pyramid": 200, "large": 5, "pool": 2000}[args.scene]
+    repeats = 2 if args.quick else repeats
+    n, count, rows = run(args.scene, repeats)
+    print(f"{args.scene}: {n} points, {count} manifolds coloured; numba {numba.__version__}, "
+          f"median of 5 timings of {repeats} calls")  # fmt: skip
+    print_table(("stage", "ns a point a call"), ("<", ">"), [(r, fmt(ns)) for r, ns in rows])
+
+
+if __name__ == "__main__":
+    main()
