@@ -172,7 +172,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     coloured = pipeline.colour(ctx, scratch, n)
     if stages == 5:
         return n
-    pipeline.substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured)
+    pipeline.substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured)
     if stages == 6:
         return n
     project_out_of_planes(body, shapes, w, points, ids, n)

@@ -58,19 +58,19 @@ import numba
 import numpy as np
 
 from impulse2d.core import context, solver
-from impulse2d.core.colouring import Coloured, colour_manifolds, pack, unpack
+from impulse2d.core.colouring import colour_step, unpack_step
+from impulse2d.core.lanes import solve_coloured
 from impulse2d.core.state import INV_MASS
 from impulse2d.core.workspace import (
-    COLOURED,
-    COLOURS,
-    CON_F,
+    AGAINST_PLANE,
+    IN_COLOUR,
     NORMAL_J,
     NORMAL_MASS,
     SEP0,
     Workspace,
+    colour_scratch,
     views,
 )
-from impulse2d.core.workspace import LANE_F as LANE_F_ENGINE
 
 try:
     from bench import solver_probe_kernels as kernels
@@ -87,28 +87,22 @@ except ImportError:
 @numba.njit(nogil=True)
 def today(body, ctx, terms, points, ids, n, passes):
     """``passes`` biased sweeps of the engine's plain-order solver over world 0's points
-    (nothing coloured: the sweep's coloured tuple holds no manifold)."""
-    con, lanes = np.zeros((1, 1)), np.zeros((1, 1))
-    order, starts = np.zeros(1, np.int64), np.zeros(1, np.int64)
+    (nothing coloured: every point left to the sweep)."""
     for _ in range(passes):
-        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False,
-                     Coloured(con, lanes, order, starts, 0, n))  # fmt: skip
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n)
 
 
 @numba.njit(nogil=True)
-def engine_coloured(body, ctx, terms, points, ids, n, passes):
-    """``passes`` biased sweeps of the engine's solver with the world coloured (what
-    ``pipeline.colour`` does once a step, then ``solver.sweep`` with its manifolds)."""
-    m, bodies = n // 2 + 1, terms.shape[0]
-    con, lanes = np.zeros((CON_F, m)), np.zeros((LANE_F_ENGINE, m))
-    order, found, colours = np.zeros(m, np.int64), np.zeros(m, np.int64), np.zeros(m, np.int64)
-    starts, masks = np.zeros(COLOURS + 1, np.int64), np.zeros(bodies, np.int64)
-    count = colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts)
-    pack(points, order, count, con, ctx[context.RESTITUTION_THRESHOLD])
-    coloured = Coloured(con, lanes, order, starts, count, n - 2 * count)
+def engine_coloured(body, ctx, terms, points, ids, n, passes, floats, ints):
+    """``passes`` biased passes of the engine's solver with the world coloured (what
+    ``pipeline.colour`` does once a step, then ``lanes.solve_coloured`` and the sweep
+    of what is left; ``floats``, ``ints``: ``workspace.colour_scratch``)."""
+    count = colour_step(terms, points, ids, n, floats, ints, ctx[context.RESTITUTION_THRESHOLD])
+    values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
     for _ in range(passes):
-        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, coloured)
-    unpack(points, order, count, con)
+        solve_coloured(body, 0, values, terms, ids, floats, ints)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count)
+    unpack_step(points, floats, ints, count)
 
 
 # What --scene captures: the pyramid's 101st step (settled, every contact resting) and the
@@ -133,7 +127,8 @@ def capture(scene: str = "pyramid") -> dict:
                 int(caps[0]), int(caps[1]), 5)  # fmt: skip
     scratch = views(space.floats[0], space.ints[0], state[0].shape[1], int(caps[0]), int(caps[1]))
     points = scratch.points[:n].copy()
-    points[:, COLOURED] = 0.0  # as the narrowphase left them: every layout starts from here
+    points[points[:, AGAINST_PLANE] == IN_COLOUR, AGAINST_PLANE] = 0.0  # as the narrowphase
+    # left them: every layout starts from there
     return {
         "n": n,
         "body": state[0],
@@ -224,7 +219,9 @@ def run(passes: int, rounds: int, name: str = "pyramid") -> tuple[list[tuple], S
     rows = [_row("plain order: core.solver.sweep, float64 rows", seconds, scene, passes,
                  packed_instructions(today), ground)]  # fmt: skip
     body, points = cap["body"].copy(), cap["points"].copy()
-    call = lambda: engine_coloured(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes)  # noqa: E731
+    scratch = colour_scratch(cap["terms"].shape[0], n)
+    call = lambda: engine_coloured(body, cap["ctx"], cap["terms"], points, cap["ids"], n, passes,  # noqa: E731
+                                   *scratch)  # fmt: skip
     seconds = timed(call, rounds)
     ground = points[:, NORMAL_J][cap["ids"][:, 0] == 0].sum() / scene.weight_impulse
     rows.append(_row("engine, coloured: core.solver.sweep with core.lanes", seconds, scene,

@@ -18,13 +18,12 @@ import time
 from pathlib import Path
 
 import numba
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/: the probe, the scenes
 import solver_probe
 from engine_runs import _pyramid_world
 from impulse2d.core import colouring, contacts, context, lanes, solver
-from impulse2d.core.workspace import COLOURS, CON_F, LANE_F
+from impulse2d.core.workspace import colour_scratch
 from profile_step import _case
 from report import fmt, print_table
 from scenes import large_pyramid
@@ -40,49 +39,53 @@ solver_probe.SCENES["large"] = _large
 
 
 @numba.njit(nogil=True)
-def _colour(terms, points, ids, n, scratch, repeats):
-    masks, found, colours, order, starts = scratch
+def _colour(terms, points, ids, n, floats, ints, repeats):
+    c = colouring.colour_arrays(floats, ints)
     count = 0
     for _ in range(repeats):
-        count = colouring.colour_manifolds(terms, points, ids, n, masks, found, colours,
-                                           order, starts)  # fmt: skip
+        count = colouring.colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours,
+                                           c.order, c.starts)  # fmt: skip
     return count
 
 
 @numba.njit(nogil=True)
-def _pack(points, order, count, con, threshold, repeats):
+def _pack(points, floats, ints, count, threshold, repeats):
+    c = colouring.colour_arrays(floats, ints)
     for _ in range(repeats):
-        colouring.pack(points, order, count, con, threshold)
+        colouring.pack(points, c.order, count, c.con, threshold)
 
 
 @numba.njit(nogil=True)
-def _sweep(body, ctx, terms, points, ids, n, biased, coloured, repeats):
+def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats):
+    values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
     for _ in range(repeats):
-        solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, coloured)
+        if rest < n:
+            lanes.solve_coloured(body, 0, values, terms, ids, floats, ints)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest)
 
 
 @numba.njit(nogil=True)
 def _warm(body, points, ids, n, repeats):
     for _ in range(repeats):
-        solver.warm_start(body, 0, points, ids, n)
+        solver.warm_start(body, 0, points, ids, n, False)
 
 
 @numba.njit(nogil=True)
-def _warm_coloured(body, ids, coloured, repeats):
+def _warm_coloured(body, ids, floats, ints, count, repeats):
     for _ in range(repeats):
-        lanes.warm_start_coloured(body, 0, ids, coloured)
+        lanes.warm_start_coloured(body, 0, ids, floats, ints, count)
 
 
 @numba.njit(nogil=True)
 def _follow(body, ctx, terms, points, ids, n, repeats):
     for _ in range(repeats):
-        contacts.follow_bodies(body, 0, ctx, terms, points, ids, n)
+        contacts.follow_bodies(body, 0, ctx, terms, points, ids, n, False)
 
 
 @numba.njit(nogil=True)
-def _follow_coloured(body, ids, coloured, repeats):
+def _follow_coloured(body, ids, floats, ints, count, repeats):
     for _ in range(repeats):
-        lanes.follow_coloured(body, 0, ids, coloured)
+        lanes.follow_coloured(body, 0, ids, floats, ints, count)
 
 
 def _ns(call, repeats: int, points: int) -> float:
@@ -99,32 +102,28 @@ def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
     cap = solver_probe.capture(scene)
     n, body, terms, ids, ctx = cap["n"], cap["body"], cap["terms"], cap["ids"], cap["ctx"]
     plain_points, points = cap["points"].copy(), cap["points"].copy()
-    m = n // 2 + 1
-    con, lane_rows = np.zeros((CON_F, m)), np.zeros((LANE_F, m))
-    scratch = (np.zeros(terms.shape[0], np.int64), *(np.zeros(m, np.int64) for _ in range(3)),
-               np.zeros(COLOURS + 1, np.int64))  # fmt: skip
-    order, starts = scratch[3], scratch[4]
-    count = _colour(terms, points, ids, n, scratch, 1)
+    floats, ints = colour_scratch(terms.shape[0], n)
+    count = _colour(terms, points, ids, n, floats, ints, 1)
     threshold = ctx[context.RESTITUTION_THRESHOLD]
-    _pack(points, order, count, con, threshold, 1)
-    coloured = colouring.Coloured(con, lane_rows, order, starts, count, n - 2 * count)
-    plain = colouring.Coloured(con, lane_rows, order, starts, 0, n)
+    _pack(points, floats, ints, count, threshold, 1)
+    rest = n - 2 * count
     rows = [
         ("solve pass, plain order", lambda r: _sweep(body, ctx, terms, plain_points, ids, n,
-                                                      True, plain, r)),
+                                                      True, floats, ints, n, r)),
         ("solve pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, True,
-                                                  coloured, r)),
+                                                  floats, ints, rest, r)),
         ("relax pass, plain order", lambda r: _sweep(body, ctx, terms, plain_points, ids, n,
-                                                      False, plain, r)),
+                                                      False, floats, ints, n, r)),
         ("relax pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, False,
-                                                  coloured, r)),
+                                                  floats, ints, rest, r)),
         ("warm start, plain order", lambda r: _warm(body, plain_points, ids, n, r)),
-        ("warm start, coloured", lambda r: _warm_coloured(body, ids, coloured, r)),
+        ("warm start, coloured", lambda r: _warm_coloured(body, ids, floats, ints, count, r)),
         ("anchors follow, plain order", lambda r: _follow(body, ctx, terms, plain_points, ids,
                                                           n, r)),
-        ("anchors follow, coloured", lambda r: _follow_coloured(body, ids, coloured, r)),
-        ("colouring (once a step)", lambda r: _colour(terms, points, ids, n, scratch, r)),
-        ("packing (once a step)", lambda r: _pack(points, order, count, con, threshold, r)),
+        ("anchors follow, coloured", lambda r: _follow_coloured(body, ids, floats, ints, count,
+                                                                r)),
+        ("colouring (once a step)", lambda r: _colour(terms, points, ids, n, floats, ints, r)),
+        ("packing (once a step)", lambda r: _pack(points, floats, ints, count, threshold, r)),
     ]  # fmt: skip
     return n, count, [(name, _ns(call, repeats, n)) for name, call in rows]
 

@@ -22,7 +22,6 @@ from impulse2d.core.workspace import (
     CIIB,
     CIMA,
     CIMB,
-    COLOURED,
     COLOURS,
     CON_F,
     GROSS_J,
@@ -31,6 +30,7 @@ from impulse2d.core.workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
+    IN_COLOUR,
     LANE_F,
     MASS_SCALE,
     MAX_J,
@@ -53,6 +53,7 @@ from impulse2d.core.workspace import (
     STEP_J,
     TANGENT_J,
     TERMS,
+    colour_scratch,
     manifold_room,
 )
 
@@ -103,7 +104,7 @@ def test_a_stack_alternates_colours_and_its_ground_takes_the_top_colour():
     count, order, starts, of = _colour(points, ids, terms)
     assert count == 6 and starts[COLOURS] == 6
     assert [of[2 * i] for i in range(6)] == [COLOURS - 1, 0, 1, 0, 1, 0]
-    assert (points[:, COLOURED] == 1.0).all()
+    assert (points[:, AGAINST_PLANE] == IN_COLOUR).all()
     _assert_valid(ids, terms, order, starts)
 
 
@@ -118,11 +119,11 @@ def test_only_two_point_manifolds_between_bodies_with_one_normal_are_coloured():
     points, ids, terms = _points(pairs, 7, movable=[1, 1, 1, 1, 1, 0, 0])
     points[1 + 3 + 2 + 1, NX] = 1e-9  # ... and give (3, 4) a second normal: not coloured
     count, _, _, _ = _colour(points, ids, terms)
-    assert count == 0 and not points[:, COLOURED].any()
+    assert count == 0 and not (points[:, AGAINST_PLANE] == IN_COLOUR).any()
     points[1 + 3 + 2 + 1, NX] = 0.0
     count, order, _, _ = _colour(points, ids, terms)
     assert count == 1 and list(order) == [6]
-    assert points[:, COLOURED].tolist() == [0.0] * 6 + [1.0, 1.0, 0.0, 0.0]
+    assert points[:, AGAINST_PLANE].tolist() == [0.0] * 4 + [1.0, 1.0, IN_COLOUR, IN_COLOUR, 0, 0]
 
 
 def test_what_finds_no_colour_stays_in_plain_order():
@@ -132,7 +133,8 @@ def test_what_finds_no_colour_stays_in_plain_order():
     count, order, starts, of = _colour(points, ids, terms)
     assert count == colouring.DYNAMIC_COLOURS
     assert sorted(of.values()) == list(range(colouring.DYNAMIC_COLOURS))
-    assert points[: 2 * count, COLOURED].all() and not points[2 * count :, COLOURED].any()
+    coloured = points[:, AGAINST_PLANE] == IN_COLOUR
+    assert coloured[: 2 * count].all() and not coloured[2 * count :].any()
     # against 40 fixed bodies: colours from the top down to 1, never 0, 9 left over
     hub = [(0, i, 2, UP, False) for i in range(1, 41)]
     points, ids, terms = _points(hub, 41, movable=[1] + [0] * 40)
@@ -176,17 +178,12 @@ def manifolds(draw):
     return body, terms, points, ids, ctx, draw(st.booleans())
 
 
-def _coloured_tuple(points, ids, terms):
-    m = manifold_room(len(points))
-    con, lane_rows = np.zeros((CON_F, m)), np.zeros((LANE_F, m))
-    masks = np.zeros(len(terms), np.int64)
-    found, colours, order = (np.zeros(m, np.int64) for _ in range(3))
-    starts = np.zeros(COLOURS + 1, np.int64)
-    count = colouring.colour_manifolds(
-        terms, points, ids, len(points), masks, found, colours, order, starts
-    )
-    colouring.pack(points, order, count, con, 1.0)
-    return colouring.Coloured(con, lane_rows, order, starts, count, len(points) - 2 * count)
+def _coloured(points, ids, terms):
+    """The world's manifolds coloured and packed, as ``pipeline.colour`` does: the
+    scratch and how many were coloured."""
+    floats, ints = colour_scratch(len(terms), len(points))
+    count = colouring.colour_step(terms, points, ids, len(points), floats, ints, 1.0)
+    return floats, ints, count
 
 
 @settings(max_examples=60, deadline=None)
@@ -196,14 +193,13 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     deltas) must give the plain sweep's impulses and velocities, to rounding."""
     body, terms, points, ids, ctx, biased = case
     plain_body, plain_points = body.copy(), points.copy()
-    nothing = colouring.Coloured(np.zeros((CON_F, 1)), np.zeros((LANE_F, 1)),
-                                 np.zeros(1, np.int64), np.zeros(COLOURS + 1, np.int64), 0,
-                                 2)  # fmt: skip
-    solver.sweep(plain_body, 0, ctx, terms, plain_points, ids, 2, biased, False, nothing)
-    coloured = _coloured_tuple(points, ids, terms)
-    assert coloured.count == 1 and coloured.rest == 0
-    solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, coloured)
-    colouring.unpack(points, coloured.order, coloured.count, coloured.con)
+    solver.sweep(plain_body, 0, ctx, terms, plain_points, ids, 2, biased, False, 2)
+    floats, ints, count = _coloured(points, ids, terms)
+    assert count == 1 and (points[:, AGAINST_PLANE] == IN_COLOUR).all()
+    values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
+    lanes.solve_coloured(body, 0, values, terms, ids, floats, ints)
+    solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0)  # nothing left
+    colouring.unpack_step(points, floats, ints, count)
     for column in (NORMAL_J, TANGENT_J, STEP_J, MAX_J, GROSS_J):
         np.testing.assert_allclose(points[:, column], plain_points[:, column], rtol=1e-9,
                                    atol=1e-12, err_msg=str(column))  # fmt: skip

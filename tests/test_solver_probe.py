@@ -181,3 +181,16 @@ def test_the_substep_stages_bench_prints_every_stage(capsys, monkeypatch):
     assert "pyramid: 800 points, 400 manifolds coloured" in out
     for stage in ("solve pass, coloured", "anchors follow, coloured", "packing (once a step)"):
         assert stage in out
+
+
+def test_the_threshold_bench_prints_both_orders_and_restores_the_threshold(capsys, monkeypatch):
+    import colouring_threshold
+    from impulse2d.core import colouring
+
+    before = colouring.COLOUR_FROM_POINTS
+    monkeypatch.setattr(sys, "argv", ["colouring_threshold.py", "--quick"])
+    colouring_threshold.main()
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["rows", "points", "plain", "us", "coloured", "us", "ratio"]
+    assert [line.split()[:2] for line in lines[1:]] == [["3", "18"], ["6", "72"]]
+    assert colouring.COLOUR_FROM_POINTS == before

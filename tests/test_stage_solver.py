@@ -14,7 +14,6 @@ import pytest
 
 import impulse2d as p2
 from impulse2d.core import broadphase, contacts, integrate, narrowphase, solver, workspace
-from impulse2d.core.colouring import Coloured
 from impulse2d.core.workspace import (
     NORMAL_J,
     NX,
@@ -57,12 +56,10 @@ def solve(step: SimpleNamespace, use_bias: bool) -> None:
     """One sweep: ``solver.solve`` (with the position bias) or ``solver.relax``, in plain
     order (nothing coloured: ``tests/test_colouring.py`` takes the coloured passes)."""
     args = (step.body, 0, step.ctx, step.terms, step.points, step.ids, step.n)
-    nothing = Coloured(np.zeros((1, 1)), np.zeros((1, 1)), np.zeros(1, np.int64),
-                       np.zeros(1, np.int64), 0, step.n)  # fmt: skip
     if use_bias:
-        solver.solve(*args, nothing)
+        solver.solve(*args, step.n)  # every point left to the sweep
     else:
-        solver.relax(*args, False, nothing)
+        solver.relax(*args, False, step.n)
 
 
 def momentum(world: p2.World) -> np.ndarray:

@@ -55,8 +55,8 @@ from .workspace import (
     CMASS_SCALE,
     CNX,
     CNY,
-    COLOURED,
     COLOURS,
+    CON_F,
     DRIFT,
     FOLLOW0,
     GROSS_J,
@@ -65,6 +65,7 @@ from .workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
+    IN_COLOUR,
     KEEP,
     MASS_SCALE,
     MAX_J,
@@ -142,7 +143,7 @@ def manifold_end(ids, n, start) -> int:
 @inline
 def colourable(terms, points, ids, n, start, end) -> bool:
     """Two points of two bodies, not against a plane, one normal, one of them moving."""
-    if end - start != 2 or points[start, AGAINST_PLANE] != 0.0:
+    if end - start != 2 or points[start, AGAINST_PLANE] == 1.0:
         return False
     a, b = ids[start, 0], ids[start, 1]
     same_normal = (
@@ -170,8 +171,8 @@ def colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts
     ``masks`` (N,) int64: scratch, the colours each body is in; ``found``, ``colours``
     (M,): scratch, each coloured manifold's first point and colour in narrowphase order;
     ``order`` (M,): the first point of each manifold in colour order; ``starts``
-    (COLOURS + 1,): where each colour begins in ``order``. Every point's ``COLOURED`` is
-    set (1.0 for the points of a coloured manifold)."""
+    (COLOURS + 1,): where each colour begins in ``order``. Every point not against a
+    plane gets ``AGAINST_PLANE`` = ``IN_COLOUR`` if its manifold is coloured, else 0."""
     masks[:] = 0
     count = 0
     start = 0
@@ -193,7 +194,8 @@ def colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts
                 found[count], colours[count] = start, colour
                 count += 1
         for k in range(start, end):
-            points[k, COLOURED] = 1.0 if colour >= 0 else 0.0
+            if points[k, AGAINST_PLANE] != 1.0:
+                points[k, AGAINST_PLANE] = IN_COLOUR if colour >= 0 else 0.0
         start = end
     sort_by_colour(found, colours, count, order, starts)
     return count
@@ -218,16 +220,47 @@ def sort_by_colour(found, colours, count, order, starts) -> None:
 
 
 class Coloured(NamedTuple):
-    """What the solver's passes take of a world's colouring (``pipeline.colour``):
-    ``count`` manifolds coloured, ``rest`` points left to plain order (0 for a world in
-    plain order: ``count`` 0, ``rest`` every point)."""
+    """A world's coloured manifolds, cut from its scratch by ``colour_arrays``."""
 
-    con: np.ndarray  # (CON_F, M) the coloured manifolds' constraints (workspace.CON_F)
+    con: np.ndarray  # (CON_F, M) their constraints (workspace.CON_F)
     lanes: np.ndarray  # (LANE_F, M) a colour's bodies gathered (lanes.py)
     order: np.ndarray  # (M,) each manifold's first point, in colour order
     starts: np.ndarray  # (COLOURS + 1,) where each colour begins in ``order``
-    count: int
-    rest: int
+    found: np.ndarray  # (M,) scratch of the colouring: first points in narrowphase order
+    colours: np.ndarray  # (M,) ... and their colours
+    masks: np.ndarray  # (N,) ... and the colours each body is in
+
+
+@inline
+def colour_arrays(colour_floats, colour_ints):
+    """``Scratch.colour_floats`` and ``colour_ints`` (``workspace.colour_sizes``) cut into
+    a ``Coloured``: ``con`` and ``lanes`` from the floats, then ``order``, ``found``,
+    ``colours``, ``starts`` and ``masks`` from the ints."""
+    m = colour_floats.shape[1]
+    con, lanes = colour_floats[:CON_F], colour_floats[CON_F:]  # rows: no reshape (on a GPU
+    # a world's scratch is strided, which numba cannot reshape)
+    order, found, colours = colour_ints[:m], colour_ints[m : 2 * m], colour_ints[2 * m : 3 * m]
+    at = 3 * m + COLOURS + 1
+    starts, masks = colour_ints[3 * m : at], colour_ints[at:]
+    return Coloured(con, lanes, order, starts, found, colours, masks)
+
+
+@kernel
+def colour_step(terms, points, ids, n, colour_floats, colour_ints, threshold) -> int:
+    """Colour the world's manifolds and pack them (``colour_manifolds``, ``pack``);
+    returns how many were coloured."""
+    c = colour_arrays(colour_floats, colour_ints)
+    count = colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours, c.order,
+                             c.starts)  # fmt: skip
+    pack(points, c.order, count, c.con, threshold)
+    return count
+
+
+@kernel
+def unpack_step(points, colour_floats, colour_ints, count) -> None:
+    """``unpack`` of the world's ``count`` coloured manifolds."""
+    c = colour_arrays(colour_floats, colour_ints)
+    unpack(points, c.order, count, c.con)
 
 
 @kernel

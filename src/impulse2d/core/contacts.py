@@ -63,9 +63,9 @@ from .workspace import (
     ACCEL_W,
     ACCEL_X,
     ACCEL_Y,
+    AGAINST_PLANE,
     APPROACH_SPEED,
     BIAS_RATE,
-    COLOURED,
     DRIFT,
     GROSS_J,
     HALF_SPEC,
@@ -74,6 +74,7 @@ from .workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
+    IN_COLOUR,
     KEEP,
     MASS_SCALE,
     MAX_J,
@@ -227,7 +228,7 @@ def along_line_of_centres(body, w, terms, points, k, a, b) -> None:
 
 
 @kernel
-def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
+def follow_bodies(body, w, ctx, terms, points, ids, n, coloured) -> None:
     """After the positions moved: both anchors of every point at one world point again.
 
     Equal and opposite impulses at one world point exert no net torque, so contacts keep
@@ -266,8 +267,8 @@ def follow_bodies(body, w, ctx, terms, points, ids, n) -> None:
     for k in range(n):
         if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
-        if points[k, COLOURED] != 0.0:
-            continue  # lanes.follow_coloured moves it
+        if coloured and points[k, AGAINST_PLANE] == IN_COLOUR:
+            continue  # a world with coloured manifolds: lanes.follow_coloured moves it
         a, b = ids[k, 0], ids[k, 1]
         bounces = points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold
         keep = points[k, KEEP]

@@ -39,7 +39,7 @@ import llvmlite.binding
 import numpy as np
 
 from ._jit import JIT_DISABLED, inline, kernel
-from .colouring import follow_base, point_base
+from .colouring import colour_arrays, follow_base, point_base
 from .state import ANGLE, OMEGA, VX, VY, X, Y
 from .workspace import (
     ANGLE0,
@@ -287,10 +287,12 @@ def scatter(body, w, terms, ids, order, lanes, start, end) -> None:
 
 
 @kernel
-def solve_coloured(body, w, ctx_values, terms, ids, coloured) -> None:
+def solve_coloured(body, w, ctx_values, terms, ids, colour_floats, colour_ints) -> None:
     """One pass over the coloured manifolds, colour after colour. ``ctx_values`` is
-    ``(1/h, push speed, biased pass?)``; ``coloured`` a ``colouring.Coloured``."""
-    con, lanes, order, starts = coloured.con, coloured.lanes, coloured.order, coloured.starts
+    ``(1/h, push speed, biased pass?)``; ``colour_floats``, ``colour_ints`` the scratch
+    ``colouring.colour_arrays`` cuts."""
+    c = colour_arrays(colour_floats, colour_ints)
+    con, lanes, order, starts = c.con, c.lanes, c.order, c.starts
     for colour in range(COLOURS):
         start, end = starts[colour], starts[colour + 1]
         if start < end:
@@ -300,12 +302,13 @@ def solve_coloured(body, w, ctx_values, terms, ids, coloured) -> None:
 
 
 @kernel
-def warm_start_coloured(body, w, ids, coloured) -> None:
+def warm_start_coloured(body, w, ids, colour_floats, colour_ints, count) -> None:
     """``solver.warm_start`` for the coloured manifolds: each point's accumulated
     impulses applied again, from ``con`` (one manifold after another: a sum of pushes,
     in the order of the colours)."""
-    con, order = coloured.con, coloured.order
-    for m in range(coloured.count):
+    c = colour_arrays(colour_floats, colour_ints)
+    con, order = c.con, c.order
+    for m in range(count):
         a, b = ids[order[m], 0], ids[order[m], 1]
         nx, ny = con[CNX, m], con[CNY, m]
         ima, imb, iia, iib = con[CIMA, m], con[CIMB, m], con[CIIA, m], con[CIIB, m]
@@ -345,13 +348,14 @@ def _jacobian(con, m, base, rax, ray, rbx, rby) -> None:
 
 
 @kernel
-def follow_coloured(body, w, ids, coloured) -> None:
+def follow_coloured(body, w, ids, colour_floats, colour_ints, count) -> None:
     """``contacts.follow_bodies`` for the coloured manifolds (two boxes: never two
     discs): after the positions moved, the anchor that is not a material point of its
     body goes to the one that is, so both push at one world point; a point that may
     bounce keeps its Jacobian and records how far its anchors drifted apart."""
-    con, order = coloured.con, coloured.order
-    for m in range(coloured.count):
+    c = colour_arrays(colour_floats, colour_ints)
+    con, order = c.con, c.order
+    for m in range(count):
         if con[CIMA, m] == 0.0 or con[CIMB, m] == 0.0:
             continue  # against an immovable body: it takes any torque, nothing to keep
         a, b = ids[order[m], 0], ids[order[m], 1]

@@ -32,7 +32,6 @@ from ._jit import kernel
 from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
 from .workspace import (
     AGAINST_PLANE,
-    COLOURED,
     HALF_SPEC,
     KEEP,
     NX,
@@ -383,7 +382,6 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
                 points[count, SEP0] = point[4]
                 points[count, KEEP] = anchor_kept(shapes[a, 0], shapes[b, 0], point[5])
                 points[count, AGAINST_PLANE] = 1.0 if shapes[b, 0] == PLANE else 0.0
-                points[count, COLOURED] = 0.0  # until colouring.colour_manifolds says
                 ids[count, 0], ids[count, 1], ids[count, 2] = a, b, point[5]
             count += 1
     return count

@@ -37,7 +37,7 @@ from __future__ import annotations
 from . import context
 from ._jit import JIT_DISABLED, clear_stale_cache, inline, kernel
 from .broadphase import find_pairs
-from .colouring import Coloured, colour_manifolds, pack, unpack
+from .colouring import colour_step, unpack_step
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
 from .events import break_bodies, record_contacts, sense
 from .integrate import (
@@ -48,7 +48,7 @@ from .integrate import (
     spring_stability,
     step_terms,
 )
-from .lanes import follow_coloured, warm_start_coloured
+from .lanes import follow_coloured, solve_coloured, warm_start_coloured
 from .narrowphase import find_points
 from .projection import project_out_of_planes
 from .refusal import leaves_envelope, save_world
@@ -138,48 +138,51 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
 
 
 @inline
-def colour(ctx, scratch, n):
+def colour(ctx, scratch, n) -> int:
     """A world of ``ctx[COLOUR_FROM]`` points or more: its two-point manifolds coloured
-    and packed (``colouring.py``). Returns what the solver's passes take, a
-    ``colouring.Coloured`` (``count`` 0 for a world in plain order)."""
-    count = 0
-    if n >= ctx[context.COLOUR_FROM]:
-        order = scratch.order
-        count = colour_manifolds(scratch.terms, scratch.points, scratch.point_ids, n,
-                                 scratch.masks, scratch.found, scratch.colours, order,
-                                 scratch.starts)  # fmt: skip
-        pack(scratch.points, order, count, scratch.con, ctx[context.RESTITUTION_THRESHOLD])
-    return Coloured(scratch.con, scratch.lanes, scratch.order, scratch.starts, count,
-                    n - 2 * count)  # fmt: skip
+    and packed (``colouring.py``). Returns how many were (0: the world is in plain
+    order)."""
+    if n < ctx[context.COLOUR_FROM]:
+        return 0
+    return colour_step(scratch.terms, scratch.points, scratch.point_ids, n,
+                       scratch.colour_floats, scratch.colour_ints,
+                       ctx[context.RESTITUTION_THRESHOLD])  # fmt: skip
 
 
 @inline
-def substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured) -> None:
+def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once. A coloured
-    world's manifolds (``coloured``) live in their own columns over the substeps, warm
-    started, solved and their anchors moved there (``lanes.py``); the other points are
-    skipped by ``warm_start`` and ``follow_bodies``, which a world whose points are all
-    coloured does not call."""
+    world's ``coloured`` manifolds live in their own columns over the substeps, warm
+    started, solved and their anchors moved there (``lanes.py``); the other points
+    (``rest``) take ``warm_start``, ``follow_bodies`` and the sweeps, which a world whose
+    points are all coloured does not call."""
+    terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
+    floats, ints = scratch.colour_floats, scratch.colour_ints
     h = ctx[context.H]
+    biased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
+    unbiased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], False)
+    rest = n - 2 * coloured
     count = int(ctx[context.SUBSTEPS])
     for substep in range(count):
         integrate_velocities(body, w, terms)
         if ends.shape[0]:
             apply_springs(body, body_i, spring, ends, w, terms, h)
-        if coloured.rest:
-            warm_start(body, w, points, ids, n)
-        if coloured.count:
-            warm_start_coloured(body, w, ids, coloured)
-        solve(body, w, ctx, terms, points, ids, n, coloured)
+        if rest:
+            warm_start(body, w, points, ids, n, coloured > 0)
+        if coloured:
+            warm_start_coloured(body, w, ids, floats, ints, coloured)
+            solve_coloured(body, w, biased, terms, ids, floats, ints)
+        solve(body, w, ctx, terms, points, ids, n, rest)
         integrate_positions(body, w, terms, h)
-        if coloured.rest:
-            follow_bodies(body, w, ctx, terms, points, ids, n)
-        if coloured.count:
-            follow_coloured(body, w, ids, coloured)
-        relax(body, w, ctx, terms, points, ids, n, substep == count - 1, coloured)
-    if coloured.count:  # the coloured points' impulses, back where the rest read them
-        unpack(points, coloured.order, coloured.count, coloured.con)
+        if rest:
+            follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
+        if coloured:
+            follow_coloured(body, w, ids, floats, ints, coloured)
+            solve_coloured(body, w, unbiased, terms, ids, floats, ints)
+        relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest)
+    if coloured:  # the coloured points' impulses, back where the rest read them
+        unpack_step(points, floats, ints, coloured)
     restitution(body, w, ctx, terms, points, ids, n)
 
 
@@ -235,7 +238,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     coloured = colour(ctx, scratch, n)
-    substeps(body, body_i, spring, ends, w, ctx, terms, points, ids, n, coloured)
+    substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured)
     project_out_of_planes(body, shapes, w, points, ids, n)
     finish(state, shapes, ends, sensors, w, ctx, scratch, n)
     slot, what = leaves_envelope(body, body_i, shapes, w)

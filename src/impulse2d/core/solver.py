@@ -31,7 +31,6 @@ import math
 
 from . import context
 from ._jit import inline, kernel
-from .lanes import solve_coloured
 from .state import ANGLE, OMEGA, VX, VY, X, Y
 from .workspace import (
     AGAINST_PLANE,
@@ -39,7 +38,6 @@ from .workspace import (
     APPROACH_SPEED,
     BIAS_RATE,
     BOUNCE,
-    COLOURED,
     GROSS_J,
     HALF_SPEC,
     IIA,
@@ -47,6 +45,7 @@ from .workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
+    IN_COLOUR,
     MASS_SCALE,
     MAX_J,
     MIXED_FRICTION,
@@ -134,12 +133,14 @@ def current_separation(body, w, a, b, points, k, terms) -> float:
 
 
 @kernel
-def warm_start(body, w, points, ids, n) -> None:
-    """Apply every point's accumulated normal and friction impulses (but the coloured
-    ones': ``lanes.warm_start_coloured``)."""
+def warm_start(body, w, points, ids, n, coloured) -> None:
+    """Apply every point's accumulated normal and friction impulses (but, in a world
+    with ``coloured`` manifolds, theirs: ``lanes.warm_start_coloured``)."""
     for k in range(n):
         normal, tangent = points[k, NORMAL_J], points[k, TANGENT_J]
-        if (normal != 0.0 or tangent != 0.0) and points[k, COLOURED] == 0.0:
+        if coloured and points[k, AGAINST_PLANE] == IN_COLOUR:
+            continue
+        if normal != 0.0 or tangent != 0.0:
             points[k, STEP_J] += normal
             push(body, w, ids[k, 0], ids[k, 1], points, k, normal, tangent)
 
@@ -296,7 +297,7 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
         end = start + 1
         while end < n and ids[end, 0] == ids[start, 0] and ids[end, 1] == ids[start, 1]:
             end += 1
-        if points[start, AGAINST_PLANE] == boundary and points[start, COLOURED] == 0.0:
+        if points[start, AGAINST_PLANE] == boundary:  # never a coloured one's IN_COLOUR
             coupled |= end - start > 2
             pair = end - start == 2
             if not (pair and solve_pair_normals(body, w, ctx, terms, points, ids, start, use_bias)):
@@ -309,25 +310,24 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
 
 
 @inline
-def solve(body, w, ctx, terms, points, ids, n, coloured) -> None:
+def solve(body, w, ctx, terms, points, ids, n, rest) -> None:
     """The biased sweep of a substep: contacts pushed apart softly (``sweep``)."""
-    sweep(body, w, ctx, terms, points, ids, n, True, False, coloured)
+    sweep(body, w, ctx, terms, points, ids, n, True, False, rest)
 
 
 @inline
-def relax(body, w, ctx, terms, points, ids, n, last_substep, coloured) -> None:
+def relax(body, w, ctx, terms, points, ids, n, last_substep, rest) -> None:
     """The relax sweep of a substep, without the position bias (``sweep``);
     ``last_substep``: the step's last, which leaves lone untouched points alone."""
-    sweep(body, w, ctx, terms, points, ids, n, False, last_substep, coloured)
+    sweep(body, w, ctx, terms, points, ids, n, False, last_substep, rest)
 
 
 @kernel
-def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, coloured) -> None:
-    """One Gauss-Seidel sweep over the pairs: the coloured manifolds of a large world
-    first, colour after colour (``coloured``, a ``colouring.Coloured``; its count is 0 for
-    a world in plain order), then the other pairs in order:
-    non-penetration at each of a pair's points, then friction at each, within the cone
-    of the normal impulse.
+def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, rest) -> None:
+    """One Gauss-Seidel sweep over the pairs in order, but those of coloured manifolds
+    (``lanes.solve_coloured`` solves them first): ``rest`` is how many points are left,
+    and with none left there is nothing to do. At each pair: non-penetration at each of
+    its points, then friction at each, within the cone of the normal impulse.
 
     The normal impulse solves ``J v + bias = 0`` softly and is clamped so the accumulated
     impulse stays >= 0 (contacts push, never pull); friction is clamped to the Coulomb
@@ -347,10 +347,7 @@ def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, coloured) -> None
     tipping into the ground, four converge (a 1 kg ball at 9 m/s on a 0.1 kg plank at
     32 Hz pushed the plank's centre 8 mm behind the plane with one). Planes have few
     points, so the sweeps cost little."""
-    if coloured.count > 0:
-        values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], use_bias)
-        solve_coloured(body, w, values, terms, ids, coloured)
-    if coloured.rest == 0:
+    if rest == 0:
         return
     # One call site for the inlined solve_pairs (each site compiles its own copy): pass 0
     # the pairs between bodies, then the plane pairs, once or _PLANE_SWEEPS times.

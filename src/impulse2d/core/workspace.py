@@ -37,6 +37,12 @@ feature), one row per contact point of the step, sorted by (A, B, feature):
   terms ``rA x n`` ... and the step inverse masses;
 * from the solver: accumulated impulses, the impulse over the step, the largest
   increment and the restitution target.
+
+The coloured manifolds of a large world (``colouring.py``, ``lanes.py``): their
+constraint columns ``con`` (CON_F, M) and lanes (LANE_F, M) float64, ``M`` the manifolds
+the points can make, and their colouring's int arrays, kept as two flat arrays
+(``colour_floats`` (CON_F + LANE_F, M), ``colour_ints``) that
+``colouring.colour_arrays`` cuts only in a world that is coloured.
 """
 
 from __future__ import annotations
@@ -72,11 +78,11 @@ SHARED = 28  # 1.0 if the point's pair has another point
 TARGET = 29  # restitution: minus the normal velocity to reach
 BOUNCE = 30  # restitution: 1.0 if the point bounces
 KEEP = 31  # whose anchor follows its body: 0 A's, 1 B's, 2 two discs (see follow_bodies)
-AGAINST_PLANE = 32  # 1.0 if B is a plane (solved last, see solver.sweep)
+AGAINST_PLANE = 32  # how the sweeps take it: 1.0 B is a plane (solved last, solver.sweep),
+IN_COLOUR = 2.0  # its manifold is coloured (colouring.py), 0.0 in the narrowphase's order
 GROSS_J = 33  # sum of |normal| + |tangent| of every push over the step (N s)
 DRIFT = 34  # a point that keeps its anchors: the farthest they moved apart this step (m)
-COLOURED = 35  # 1.0 if the point's manifold is solved in colour (``colouring.py``)
-POINT_F = 36
+POINT_F = 35
 MERGED_F = 11  # = state.CONTACT_F: the contact cache being written
 
 # Coloured manifolds (``colouring.py``, ``lanes.py``), field-major ``con[field, m]``: per
@@ -110,13 +116,26 @@ def manifold_room(points: int) -> int:
     return points // 2 + 1
 
 
+@inline
+def colour_sizes(bodies: int, points: int) -> tuple[int, int]:
+    """Lengths of the coloured manifolds' float and int scratch (``Scratch.colour_floats``,
+    ``colour_ints``; ``colouring.colour_arrays`` cuts them)."""
+    manifolds = manifold_room(points)
+    return (CON_F + LANE_F) * manifolds, 3 * manifolds + (COLOURS + 1) + bodies
+
+
+def colour_scratch(bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
+    """A ``Scratch.colour_floats`` and ``colour_ints`` of their own, zeroed (for tests and
+    benchmarks that colour captured points)."""
+    ints = colour_sizes(bodies, points)[1]
+    return np.zeros((CON_F + LANE_F, manifold_room(points))), np.zeros(ints, np.int64)
+
+
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
     """Lengths of one float row and one int row."""
-    manifolds = manifold_room(points)
-    floats = bodies * TERMS + points * POINT_F + points * MERGED_F
-    floats += (CON_F + LANE_F) * manifolds
-    ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies
-    ints += 3 * manifolds + (COLOURS + 1) + bodies
+    colour_floats, colour_ints = colour_sizes(bodies, points)
+    floats = bodies * TERMS + points * POINT_F + points * MERGED_F + colour_floats
+    ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies + colour_ints
     return floats, ints
 
 
@@ -152,13 +171,10 @@ class Scratch(NamedTuple):
     buckets: np.ndarray  # (N + 1,) the pairs' counting sort by first body
     parents: np.ndarray  # (N,) islands: union-find parents (sleep)
     members: np.ndarray  # (N,) islands: members in order (sleep)
-    con: np.ndarray  # (CON_F, M) coloured manifolds' constraints, field-major (colouring)
-    lanes: np.ndarray  # (LANE_F, M) a colour's bodies gathered (lanes)
-    order: np.ndarray  # (M,) each coloured manifold's first point, in colour order
-    found: np.ndarray  # (M,) the same in narrowphase order, while colouring
-    colours: np.ndarray  # (M,) the colour of each, while colouring
-    starts: np.ndarray  # (COLOURS + 1,) where each colour begins in ``order``
-    masks: np.ndarray  # (N,) the colours each body is in, while colouring
+    # The coloured manifolds' arrays, cut only where a world is coloured (cutting them
+    # into their seven arrays at every call cost a small world 0.3 us a step):
+    colour_floats: np.ndarray  # (CON_F + LANE_F, M) see colouring.colour_arrays
+    colour_ints: np.ndarray  # (colour_sizes[1],)
 
 
 @kernel
@@ -171,10 +187,8 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at += points * POINT_F
     merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
     at += points * MERGED_F
-    manifolds = manifold_room(points)
-    con = floats[at : at + CON_F * manifolds].reshape(CON_F, manifolds)
-    at += CON_F * manifolds
-    lanes = floats[at : at + LANE_F * manifolds].reshape(LANE_F, manifolds)
+    colour_floats, colour_ints = colour_sizes(bodies, points)
+    coloured_floats = floats[at : at + colour_floats].reshape(CON_F + LANE_F, -1)
     at = 0
     pair_rows = ints[at : at + 2 * pairs].reshape(pairs, 2)
     at += 2 * pairs
@@ -190,15 +204,10 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at += bodies
     members = ints[at : at + bodies]
     at += bodies
-    order = ints[at : at + manifolds]
-    found = ints[at + manifolds : at + 2 * manifolds]
-    colours = ints[at + 2 * manifolds : at + 3 * manifolds]
-    at += 3 * manifolds
-    starts = ints[at : at + COLOURS + 1]
-    masks = ints[at + COLOURS + 1 : at + COLOURS + 1 + bodies]
+    coloured_ints = ints[at : at + colour_ints]
     return Scratch(
         terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
-        parents, members, con, lanes, order, found, colours, starts, masks,
+        parents, members, coloured_floats, coloured_ints,
     )  # fmt: skip
 
 
@@ -206,7 +215,7 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
     """The arrays ``views`` cuts a row into, as separate ``((shape), dtype)`` each: the
     GPU keeps them apart (``core.gpu``), so each can lie world-innermost."""
     f8, i8 = np.float64, np.int64
-    manifolds = manifold_room(points)
+    colour_ints = colour_sizes(bodies, points)[1]
     return Scratch(
         terms=((bodies, TERMS), f8),
         points=((points, POINT_F), f8),
@@ -218,13 +227,8 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
         buckets=((bodies + 1,), i8),
         parents=((bodies,), i8),
         members=((bodies,), i8),
-        con=((CON_F, manifolds), f8),
-        lanes=((LANE_F, manifolds), f8),
-        order=((manifolds,), i8),
-        found=((manifolds,), i8),
-        colours=((manifolds,), i8),
-        starts=((COLOURS + 1,), i8),
-        masks=((bodies,), i8),
+        colour_floats=((CON_F + LANE_F, manifold_room(points)), f8),
+        colour_ints=((colour_ints,), i8),
     )
 
 
@@ -235,5 +239,4 @@ def scratch_row(parts, j):
     return Scratch(
         parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
         parts[6][j], parts[7][j], parts[8][j], parts[9][j], parts[10][j], parts[11][j],
-        parts[12][j], parts[13][j], parts[14][j], parts[15][j], parts[16][j],
     )  # fmt: skip
