@@ -2,7 +2,7 @@
 
 The step is ``bench/solver_probe.py``'s capture (the 20-row pyramid's 101st step, or
 ``--scene large``: Box2D's ``large_pyramid`` after 20 steps; ``--scene pool``: the break's
-11th), its points as the contact preparation leaves them. Each stage's kernel is called
+11th; ``--scene rain``: the 1,000-body rain after its 60 untimed steps), its points as the contact preparation leaves them. Each stage's kernel is called
 ``--repeats`` times on the same arrays (the state drifts; the work does not) and the
 median of five such calls is reported in ns a contact point a call. The plain rows run
 the engine's solver with nothing coloured, the coloured rows with the world's manifolds
@@ -24,7 +24,7 @@ import solver_probe
 from engine_runs import _pyramid_world
 from impulse2d.core import colouring, contacts, context, lanes, solver
 from impulse2d.core.workspace import colour_scratch
-from profile_step import _case
+from profile_step import _case, rain_case
 from report import fmt, print_table
 from scenes import large_pyramid
 
@@ -36,6 +36,7 @@ def _large():
 
 
 solver_probe.SCENES["large"] = _large
+solver_probe.SCENES["rain"] = lambda: rain_case(1000)
 
 
 @numba.njit(nogil=True)
@@ -130,11 +131,11 @@ def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scene", choices=["pyramid", "large", "pool"], default="pyramid")
+    parser.add_argument("--scene", choices=["pyramid", "large", "pool", "rain"], default="pyramid")
     parser.add_argument("--repeats", type=int, default=0, help="calls a timing (0: by scene)")
     parser.add_argument("--quick", action="store_true", help="a few calls: a smoke test")
     args = parser.parse_args()
-    repeats = args.repeats or {"pyramid": 200, "large": 5, "pool": 2000}[args.scene]
+    repeats = args.repeats or {"pyramid": 200, "large": 5, "pool": 2000, "rain": 20}[args.scene]
     repeats = 2 if args.quick else repeats
     n, count, rows = run(args.scene, repeats)
     print(f"{args.scene}: {n} points, {count} manifolds coloured; numba {numba.__version__}, "

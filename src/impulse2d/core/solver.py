@@ -75,61 +75,108 @@ _PLANE_SWEEPS = 4  # sweeps of the points against planes in each pass (see solve
 
 
 @inline
-def push(body, w, a, b, points, k, normal, tangent) -> None:
-    """Apply ``normal`` along n and ``tangent`` along t at point ``k``: to B, and the
-    opposite to A. (Kernels index ``array[w, i, COLUMN]`` throughout: row views inside
-    loops cost numba reference counting and make a solver sweep four times slower.)
-    ``GROSS_J`` sums the pushes' sizes: what a point that keeps the step start's Jacobian
-    may exert as torque is bounded by it (see ``contacts.follow_bodies``)."""
+def velocities(body, w, a, b):
+    """Bodies ``a`` and ``b``'s velocities as values ``(vxA, vyA, wA, vxB, vyB, wB)``.
+
+    The sweeps work on these values, loaded once a pair and stored after it: stored and
+    loaded again at every push, LLVM must assume a store to ``body`` may have changed the
+    point's row (it cannot tell the arrays apart) and reloads both. The arithmetic is the
+    same, in the same order, so the results are bitwise those of pushing in place."""
+    return (body[w, a, VX], body[w, a, VY], body[w, a, OMEGA],
+            body[w, b, VX], body[w, b, VY], body[w, b, OMEGA])  # fmt: skip
+
+
+@inline
+def store_velocities(body, w, a, b, v) -> None:
+    """``velocities``' values written back."""
+    body[w, a, VX], body[w, a, VY], body[w, a, OMEGA] = v[0], v[1], v[2]
+    body[w, b, VX], body[w, b, VY], body[w, b, OMEGA] = v[3], v[4], v[5]
+
+
+@inline
+def pushed(v, points, k, normal, tangent):
+    """``v`` after ``normal`` along n and ``tangent`` along t at point ``k``: to B, and
+    the opposite to A. ``GROSS_J`` sums the pushes' sizes: what a point that keeps the
+    step start's Jacobian may exert as torque is bounded by it (see
+    ``contacts.follow_bodies``). (Kernels index ``array[w, i, COLUMN]`` throughout: row
+    views inside loops cost numba reference counting and make a sweep four times
+    slower.)"""
     points[k, GROSS_J] += abs(normal) + abs(tangent)
     nx, ny = points[k, NX], points[k, NY]
     px = normal * nx + tangent * ny  # t = (n_y, -n_x)
     py = normal * ny - tangent * nx
-    body[w, a, VX] -= points[k, IMA] * px
-    body[w, a, VY] -= points[k, IMA] * py
-    body[w, a, OMEGA] -= points[k, IIA] * (points[k, RNA] * normal + points[k, RTA] * tangent)
-    body[w, b, VX] += points[k, IMB] * px
-    body[w, b, VY] += points[k, IMB] * py
-    body[w, b, OMEGA] += points[k, IIB] * (points[k, RNB] * normal + points[k, RTB] * tangent)
+    ima, imb = points[k, IMA], points[k, IMB]
+    return (
+        v[0] - ima * px,
+        v[1] - ima * py,
+        v[2] - points[k, IIA] * (points[k, RNA] * normal + points[k, RTA] * tangent),
+        v[3] + imb * px,
+        v[4] + imb * py,
+        v[5] + points[k, IIB] * (points[k, RNB] * normal + points[k, RTB] * tangent),
+    )
 
 
 @inline
-def _along(body, w, a, b, dx, dy, cross_a, cross_b) -> float:
+def push(body, w, a, b, points, k, normal, tangent) -> None:
+    """``pushed`` on the bodies themselves."""
+    v = pushed(velocities(body, w, a, b), points, k, normal, tangent)
+    store_velocities(body, w, a, b, v)
+
+
+@inline
+def along(v, dx, dy, cross_a, cross_b) -> float:
     """``J . V`` for the direction ``(dx, dy)`` with the Jacobian's cross terms
     ``rA x d`` and ``rB x d``: the relative velocity of the point along it."""
-    return (
-        -(dx * body[w, a, VX] + dy * body[w, a, VY])
-        - cross_a * body[w, a, OMEGA]
-        + dx * body[w, b, VX]
-        + dy * body[w, b, VY]
-        + cross_b * body[w, b, OMEGA]
-    )
+    return -(dx * v[0] + dy * v[1]) - cross_a * v[2] + dx * v[3] + dy * v[4] + cross_b * v[5]
+
+
+@inline
+def normal_speed(v, points, k) -> float:
+    """The relative velocity of point ``k`` along the normal (< 0: closing)."""
+    return along(v, points[k, NX], points[k, NY], points[k, RNA], points[k, RNB])
 
 
 @inline
 def normal_velocity(body, w, a, b, points, k) -> float:
-    """The relative velocity of point ``k`` along the normal (< 0: closing)."""
-    return _along(body, w, a, b, points[k, NX], points[k, NY], points[k, RNA], points[k, RNB])
+    """``normal_speed`` of the bodies themselves."""
+    return normal_speed(velocities(body, w, a, b), points, k)
 
 
 @inline
-def tangent_velocity(body, w, a, b, points, k) -> float:
+def tangent_speed(v, points, k) -> float:
     """... and along the tangent ``t = (n_y, -n_x)``."""
-    return _along(body, w, a, b, points[k, NY], -points[k, NX], points[k, RTA], points[k, RTB])
+    return along(v, points[k, NY], -points[k, NX], points[k, RTA], points[k, RTB])
+
+
+@inline
+def moved(body, w, terms, a, b):
+    """How far bodies ``a`` and ``b`` moved since the step start, as values ``(dxA, dyA,
+    dqA, dxB, dyB, dqB)`` (m, rad): positions do not change within a sweep, so a pair
+    computes them once."""
+    return (body[w, a, X] - terms[a, X0], body[w, a, Y] - terms[a, Y0],
+            body[w, a, ANGLE] - terms[a, ANGLE0], body[w, b, X] - terms[b, X0],
+            body[w, b, Y] - terms[b, Y0], body[w, b, ANGLE] - terms[b, ANGLE0])  # fmt: skip
+
+
+@inline
+def separation(points, k, d) -> float:
+    """The separation of point ``k`` at the step start plus ``J_n . dq`` since then, for
+    the bodies' motion ``d`` (``moved``)."""
+    nx, ny = points[k, NX], points[k, NY]
+    return (
+        points[k, SEP0]
+        - (nx * d[0] + ny * d[1])
+        - points[k, RNA] * d[2]
+        + nx * d[3]
+        + ny * d[4]
+        + points[k, RNB] * d[5]
+    )
 
 
 @inline
 def current_separation(body, w, a, b, points, k, terms) -> float:
-    """The separation at the step start plus ``J_n . dq`` since then."""
-    nx, ny = points[k, NX], points[k, NY]
-    return (
-        points[k, SEP0]
-        - (nx * (body[w, a, X] - terms[a, X0]) + ny * (body[w, a, Y] - terms[a, Y0]))
-        - points[k, RNA] * (body[w, a, ANGLE] - terms[a, ANGLE0])
-        + nx * (body[w, b, X] - terms[b, X0])
-        + ny * (body[w, b, Y] - terms[b, Y0])
-        + points[k, RNB] * (body[w, b, ANGLE] - terms[b, ANGLE0])
-    )
+    """``separation`` of the bodies themselves."""
+    return separation(points, k, moved(body, w, terms, a, b))
 
 
 @kernel
@@ -146,11 +193,11 @@ def warm_start(body, w, points, ids, n, coloured) -> None:
 
 
 @inline
-def solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
-    """Non-penetration at point ``k`` (see ``sweep``)."""
+def solve_normal(ctx, points, k, use_bias, last, v, d):
+    """Non-penetration at point ``k`` (see ``sweep``): ``v`` (``velocities``) after it,
+    its bodies having moved ``d`` (``moved``)."""
     inv_h, push_speed = ctx[context.INV_H], ctx[context.PUSH_SPEED]
-    a, b = ids[k, 0], ids[k, 1]
-    s = current_separation(body, w, a, b, points, k, terms)
+    s = separation(points, k, d)
     if s > 0.0:
         untouched = points[k, MAX_J] == 0.0 and points[k, NORMAL_J] == 0.0
         if last and untouched and points[k, SHARED] == 0.0:
@@ -161,14 +208,14 @@ def solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
             # (A pair's several points are coupled through its bodies' turning: their
             # one sweep per pass needs this second one, or a box landing fast on a
             # face can sink a corner; Box2D keeps it for every point.)
-            return
+            return v
         bias, mass_scale, impulse_scale = s * inv_h, 1.0, 0.0  # speculative: arrive, no more
     elif use_bias:
         mass_scale, impulse_scale = points[k, MASS_SCALE], points[k, IMPULSE_SCALE]
         bias = max(mass_scale * points[k, BIAS_RATE] * s, -push_speed)
     else:
         bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-    vn = normal_velocity(body, w, a, b, points, k)
+    vn = normal_speed(v, points, k)
     accumulated = points[k, NORMAL_J]
     impulse = -points[k, NORMAL_MASS] * (mass_scale * vn + bias) - impulse_scale * accumulated
     total = max(accumulated + impulse, 0.0)
@@ -176,29 +223,30 @@ def solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last) -> None:
     points[k, NORMAL_J] = total
     points[k, STEP_J] += change
     points[k, MAX_J] = max(points[k, MAX_J], change)
-    push(body, w, a, b, points, k, change, 0.0)
+    return pushed(v, points, k, change, 0.0)
 
 
 @inline
-def solve_friction(body, w, points, ids, k) -> None:
-    """Coulomb friction at point ``k``, within the cone of its normal impulse."""
+def solve_friction(points, k, v):
+    """Coulomb friction at point ``k``, within the cone of its normal impulse: ``v``
+    after it."""
     friction = points[k, MIXED_FRICTION]
     if friction > 0.0:
-        a, b = ids[k, 0], ids[k, 1]
-        vt = tangent_velocity(body, w, a, b, points, k)
+        vt = tangent_speed(v, points, k)
         limit = friction * points[k, NORMAL_J]
         old = points[k, TANGENT_J]
         new = min(max(old - points[k, TANGENT_MASS] * vt, -limit), limit)
-        push(body, w, a, b, points, k, 0.0, new - old)
+        v = pushed(v, points, k, 0.0, new - old)
         points[k, TANGENT_J] = new
+    return v
 
 
 @inline
-def soft_row(body, w, ctx, terms, points, ids, k, use_bias):
+def soft_row(ctx, points, k, use_bias, d):
     """The soft constraint of point ``k`` as ``(mass_scale, bias, impulse_scale)``: its
     impulse solves ``mass_scale v_n + bias + impulse_scale K lambda = 0`` (``K`` its
     effective inverse mass, ``lambda`` its accumulated impulse), as in ``solve_normal``."""
-    s = current_separation(body, w, ids[k, 0], ids[k, 1], points, k, terms)
+    s = separation(points, k, d)
     if s > 0.0:
         return 1.0, s * ctx[context.INV_H], 0.0
     if use_bias:
@@ -209,10 +257,11 @@ def soft_row(body, w, ctx, terms, points, ids, k, use_bias):
 
 
 @inline
-def solve_pair_normals(body, w, ctx, terms, points, ids, k, use_bias) -> bool:
+def solve_pair_normals(ctx, points, k, use_bias, v, d):
     """Both normal impulses of a two-point pair at once (Box2D v2's block solver, here
-    for soft rows); returns False, having changed nothing, if the two rows are too
-    nearly parallel to solve together (then they are solved one after the other).
+    for soft rows), from and to the pair's ``velocities`` ``v``; returns ``(solved,
+    v)``: not solved, having changed nothing, if the two rows are too nearly parallel
+    to solve together (then they are solved one after the other).
 
     Every two-point pair is solved so, resting or striking. Solved one after the other,
     the point solved first takes more than its share each sweep, and the order of a
@@ -234,26 +283,25 @@ def solve_pair_normals(body, w, ctx, terms, points, ids, k, use_bias) -> bool:
     turning, and friction would turn that turning into sliding (more energy than it
     came with)."""
     j = k + 1
-    a, b = ids[k, 0], ids[k, 1]
     ima, imb, iia, iib = points[k, IMA], points[k, IMB], points[k, IIA], points[k, IIB]
     k11 = ima + imb + iia * points[k, RNA] * points[k, RNA] + iib * points[k, RNB] * points[k, RNB]
     k22 = ima + imb + iia * points[j, RNA] * points[j, RNA] + iib * points[j, RNB] * points[j, RNB]
     k12 = ima + imb + iia * points[k, RNA] * points[j, RNA] + iib * points[k, RNB] * points[j, RNB]
     if not k11 * k22 - k12 * k12 > 1e-3 * k11 * k22:
-        return False
-    ms1, bias1, is1 = soft_row(body, w, ctx, terms, points, ids, k, use_bias)
-    ms2, bias2, is2 = soft_row(body, w, ctx, terms, points, ids, j, use_bias)
+        return False, v
+    ms1, bias1, is1 = soft_row(ctx, points, k, use_bias, d)
+    ms2, bias2, is2 = soft_row(ctx, points, j, use_bias, d)
     acc1, acc2 = points[k, NORMAL_J], points[j, NORMAL_J]
     # Row i: A_i1 d_1 + A_i2 d_2 = r_i.
     a11, a12, r1 = (
         ms1 * k11 + is1 * k11,
         ms1 * k12,
-        -(ms1 * normal_velocity(body, w, a, b, points, k) + bias1 + is1 * k11 * acc1),
+        -(ms1 * normal_speed(v, points, k) + bias1 + is1 * k11 * acc1),
     )
     a21, a22, r2 = (
         ms2 * k12,
         ms2 * k22 + is2 * k22,
-        -(ms2 * normal_velocity(body, w, a, b, points, j) + bias2 + is2 * k22 * acc2),
+        -(ms2 * normal_speed(v, points, j) + bias2 + is2 * k22 * acc2),
     )
     det = a11 * a22 - a12 * a21
     d1 = d2 = 0.0
@@ -273,16 +321,15 @@ def solve_pair_normals(body, w, ctx, terms, points, ids, k, use_bias) -> bool:
         d1, d2 = -acc1, -acc2
         found = a11 * d1 + a12 * d2 - r1 >= 0.0 and a21 * d1 + a22 * d2 - r2 >= 0.0
     if not found:
-        return False
+        return False, v
     points[k, NORMAL_J] += d1
     points[k, STEP_J] += d1
     points[k, MAX_J] = max(points[k, MAX_J], d1)
-    push(body, w, a, b, points, k, d1, 0.0)
+    v = pushed(v, points, k, d1, 0.0)
     points[j, NORMAL_J] += d2
     points[j, STEP_J] += d2
     points[j, MAX_J] = max(points[j, MAX_J], d2)
-    push(body, w, a, b, points, j, d2, 0.0)
-    return True
+    return True, pushed(v, points, j, d2, 0.0)
 
 
 @inline
@@ -299,12 +346,18 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary) -
             end += 1
         if points[start, AGAINST_PLANE] == boundary:  # never a coloured one's IN_COLOUR
             coupled |= end - start > 2
-            pair = end - start == 2
-            if not (pair and solve_pair_normals(body, w, ctx, terms, points, ids, start, use_bias)):
+            a, b = ids[start, 0], ids[start, 1]
+            v = velocities(body, w, a, b)  # the pair's bodies, as values until it is done
+            d = moved(body, w, terms, a, b)
+            solved = False
+            if end - start == 2:
+                solved, v = solve_pair_normals(ctx, points, start, use_bias, v, d)
+            if not solved:
                 for k in range(start, end):
-                    solve_normal(body, w, ctx, terms, points, ids, k, use_bias, last)
+                    v = solve_normal(ctx, points, k, use_bias, last, v, d)
             for k in range(start, end):
-                solve_friction(body, w, points, ids, k)
+                v = solve_friction(points, k, v)
+            store_velocities(body, w, a, b, v)
         start = end
     return coupled
 
