@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 import impulse2d as p2
 import scene_laws as laws
 import scenes_random as sr
+from impulse2d.core import colouring
 from impulse2d.core.runner import available_threads
 from impulse2d.core.state import ANGLE, OMEGA, VX, VY, X, Y
 
@@ -447,7 +448,19 @@ def test_no_centre_gets_behind_a_plane(scene):
         target(-closest, label="closest approach of a centre to a plane")
 
 
-def test_a_thin_plank_landing_tilted_stays_in_front_of_the_ground():
+# The rules of a large world (from ``colouring.COLOUR_FROM_POINTS`` points: a plane pair
+# of more than two points solved over where it stands, two-point pairs coloured) must
+# hold these too: 0 makes every world large.
+LARGE_WORLD_RULES = pytest.mark.parametrize("colour_from", [None, 0])
+
+
+def _world_rules(monkeypatch, colour_from) -> None:
+    if colour_from is not None:
+        monkeypatch.setattr(colouring, "COLOUR_FROM_POINTS", colour_from)
+
+
+@LARGE_WORLD_RULES
+def test_a_thin_plank_landing_tilted_stays_in_front_of_the_ground(monkeypatch, colour_from):
     """Found by the property test: a 0.5 m x 6 cm plank, standing on the ground, is
     knocked over by a ball ten times its mass at 32 Hz with one substep; its centre got
     4 mm behind the ground. Two causes: the impulses of points still far apart were
@@ -455,6 +468,7 @@ def test_a_thin_plank_landing_tilted_stays_in_front_of_the_ground():
     sweeps its lower corner along an arc the step's linearised contacts do not see
     (``projection.project_out_of_planes`` moves it back to at most half its half
     thickness deep)."""
+    _world_rules(monkeypatch, colour_from)
     world = p2.World(substeps=1)
     world.add(p2.Circle(position=(0.0, 1.0), radius=0.125, restitution=0.0, friction=0.0))
     world.add(
@@ -494,10 +508,13 @@ def test_a_thin_plank_landing_tilted_stays_in_front_of_the_ground():
         assert (plank.position - ground.point) @ ground.normal >= 0.25 * plank.height
 
 
-def test_a_heavy_ball_cannot_drive_a_light_plank_behind_the_ground():
+@LARGE_WORLD_RULES
+def test_a_heavy_ball_cannot_drive_a_light_plank_behind_the_ground(monkeypatch, colour_from):
     """Found by the property test: a 1 kg ball lands at 9 m/s on a 0.1 kg plank lying on
     the ground (32 Hz, one substep); the plank's four points against the ground get
-    several sweeps, so the plank's centre stays in front (it went 8 mm behind with one)."""
+    several sweeps (in a large world, ``_PLANE_SWEEPS`` solves of their pair where it
+    stands), so the plank's centre stays in front (it went 8 mm behind with one)."""
+    _world_rules(monkeypatch, colour_from)
     world = p2.World(substeps=1)
     world.add(p2.Circle(radius=1.0, restitution=0.0, friction=0.0))
     plank = world.add(
@@ -577,3 +594,28 @@ def test_printed_reproduction_builds_the_same_world(scene):
     run(printed, scene.dt, 10)
     run(world, scene.dt, 10)
     assert_same(sr.world_arrays(printed), sr.world_arrays(world), "after 10 steps")
+
+
+def test_a_large_world_solves_a_lone_plank_on_the_ground_as_a_small_world_does(monkeypatch):
+    """A large world solves a plane pair of more than two points ``_PLANE_SWEEPS`` times
+    where it stands; a small world sweeps every plane pair that many times. With one
+    plane pair in the world the two are the same arithmetic: bitwise the same plank
+    (with one solve of its pair, the large world's plank ends elsewhere)."""
+    ends = []
+    for colour_from in (None, 0):
+        _world_rules(monkeypatch, colour_from)
+        world = p2.World(substeps=1)
+        world.add(p2.Circle(radius=1.0, restitution=0.0, friction=0.0))
+        plank = world.add(
+            p2.Box(position=(0.0, -4.0), height=0.25, mass=0.1, restitution=0.0, friction=0.0)
+        )
+        ground = world.add(p2.Plane(point=(0.0, -5.515388203202208), friction=0.0))
+        most = 0  # the plank's points against the ground, at most, over the steps
+        for _ in range(100):
+            world.step(0.03125)
+            c = world.contacts()
+            pair = {plank.slot, ground.slot}
+            most = max(most, sum({a, b} == pair for a, b in zip(c.slot_a, c.slot_b, strict=True)))
+        assert most > 2  # a pair the repeats are for
+        ends.append((plank.position.tobytes(), plank.angle))
+    assert ends[0] == ends[1]
