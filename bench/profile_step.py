@@ -58,6 +58,7 @@ import numpy as np
 
 import impulse2d as p2
 from impulse2d.core import context, pipeline
+from impulse2d.core._jit import borrowed
 from impulse2d.core.broadphase import find_pairs
 from impulse2d.core.contacts import carry_impulses, count_dormant, prepare
 from impulse2d.core.integrate import spring_stability, step_terms
@@ -125,7 +126,8 @@ def _collide(body, body_i, shapes, w, ctx, scratch) -> int:
     """Broadphase and narrowphase once; the point count, or ``NEEDS_ROOM``."""
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     pairs, sorted_pairs, buckets = scratch.pairs, scratch.sorted_pairs, scratch.buckets
-    n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, sorted_pairs, buckets)
+    n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, scratch.swept, pairs, sorted_pairs,
+                         buckets)  # fmt: skip
     if n_pairs > pairs.shape[0]:
         return NEEDS_ROOM
     n = find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
@@ -136,8 +138,14 @@ def _collide(body, body_i, shapes, w, ctx, scratch) -> int:
 def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) -> int:
     """The first ``stages`` stages of ``pipeline.step_world`` for world ``w``, in its
     order and with its calls; returns the step's contact points (0 before the
-    narrowphase), or ``NEEDS_ROOM``."""
+    narrowphase), or ``NEEDS_ROOM``. The arrays are ``borrowed``, as ``pipeline.advance``
+    hands them to the stages."""
     body, body_i, spring, _, contact, contact_i, world_i, time = state
+    body, body_i, spring = borrowed(body), borrowed(body_i), borrowed(spring)
+    contact, contact_i, world_i = borrowed(contact), borrowed(contact_i), borrowed(world_i)
+    time, layout, ctx = borrowed(time), borrowed(layout), borrowed(ctx)
+    floats, ints = borrowed(floats), borrowed(ints)
+    state = (body, body_i, spring, borrowed(state[3]), contact, contact_i, world_i, time)
     scratch = views(floats, ints, body.shape[1], points_cap, pairs_cap)
     shapes, ends, sensors = pipeline.split_layout(layout, body.shape[1], spring.shape[1])
     if pipeline.at_rest(body_i, shapes, w):
@@ -150,8 +158,9 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
         return 0
     if stages == 2:
         n_pairs = find_pairs(
-            body, body_i, shapes, w, ctx, terms, pairs, scratch.sorted_pairs, scratch.buckets
-        )
+            body, body_i, shapes, w, ctx, terms, scratch.swept, pairs, scratch.sorted_pairs,
+            scratch.buckets,
+        )  # fmt: skip
         return NEEDS_ROOM if n_pairs > pairs.shape[0] else 0
     n = _collide(body, body_i, shapes, w, ctx, scratch)
     if n < 0 or stages == 3:

@@ -2,7 +2,8 @@
 
 The step is ``bench/solver_probe.py``'s capture (the 20-row pyramid's 101st step, or
 ``--scene large``: Box2D's ``large_pyramid`` after 20 steps; ``--scene pool``: the break's
-11th; ``--scene rain``: the 1,000-body rain after its 60 untimed steps), its points as the contact preparation leaves them. Each stage's kernel is called
+11th; ``--scene rain``: the 1,000-body rain after its 60 untimed steps), its points as
+the contact preparation leaves them. Each stage's kernel is called
 ``--repeats`` times on the same arrays (the state drifts; the work does not) and the
 median of five such calls is reported in ns a contact point a call. The plain rows run
 the engine's solver with nothing coloured, the coloured rows with the world's manifolds

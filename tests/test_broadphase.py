@@ -26,8 +26,9 @@ def candidate_pairs(world: p2.World, w: int = 0) -> np.ndarray:
     while True:
         pairs = np.zeros((capacity, 2), np.int64)
         scratch, buckets = np.zeros_like(pairs), np.zeros(n + 1, np.int64)
+        swept = np.zeros((workspace.SWEPT_F, n))
         count = broadphase.find_pairs(
-            state.body, state.body_i, shapes, w, ctx, terms, pairs, scratch, buckets
+            state.body, state.body_i, shapes, w, ctx, terms, swept, pairs, scratch, buckets
         )
         if count <= capacity:
             return pairs[:count]

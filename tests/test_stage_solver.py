@@ -41,8 +41,8 @@ def prepared(world: p2.World, dt: float = DT) -> SimpleNamespace:
     )
     pairs = np.zeros((64, 2), np.int64)
     count = broadphase.find_pairs(
-        state.body, state.body_i, shapes, 0, ctx, terms, pairs, np.zeros_like(pairs),
-        np.zeros(n_bodies + 1, np.int64),
+        state.body, state.body_i, shapes, 0, ctx, terms, np.zeros((workspace.SWEPT_F, n_bodies)),
+        pairs, np.zeros_like(pairs), np.zeros(n_bodies + 1, np.int64),
     )  # fmt: skip
     points = np.zeros((64, workspace.POINT_F))
     ids = np.zeros((64, 3), np.int64)

@@ -124,7 +124,8 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
         dynamic_off = shapes[i, 1] == DYNAMIC and shapes[i, 0] != PLANE and terms[i, MOVING] == 0.0
         sleeping |= dynamic_off and body_i[w, i, ENABLED] == 1
     while True:
-        n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, pairs, sorted_pairs, buckets)
+        n_pairs = find_pairs(body, body_i, shapes, w, ctx, terms, scratch.swept, pairs,
+                             sorted_pairs, buckets)  # fmt: skip
         if n_pairs > pairs.shape[0]:
             plan_row[NEED_PAIRS] = n_pairs
             return -1

@@ -26,6 +26,9 @@ Body terms ``terms`` (N, TERMS) float64, for the current step:
   box grown by how far it can travel and half its speculative distance (``LEFT`` +inf
   when it is not in the broadphase).
 
+The broadphase's sweep ``swept`` (SWEPT_F, N) float64: the boxes again, in the order the
+sweep takes them, one array per field (its inner loop then reads consecutive numbers).
+
 Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
 feature), one row per contact point of the step, sorted by (A, B, feature):
 
@@ -61,6 +64,10 @@ LEFT, RIGHT, BOTTOM, TOP = 13, 14, 15, 16
 REACH = 17  # SPEED plus what gravity, forces and springs can add within the step (m/s)
 PUSHED = 18  # REACH plus what the bodies it may touch can add (m/s): its planes' margin
 TERMS = 19
+# The broadphase's boxes in its sweep order, field-major ``swept[field, p]`` for the p-th
+# body swept (broadphase.sweep): its box, and 1.0 if it moves plus 2.0 if it is dynamic.
+SWEPT_LEFT, SWEPT_RIGHT, SWEPT_BOTTOM, SWEPT_TOP, SWEPT_FLAGS = range(5)
+SWEPT_F = 5
 
 # The columns a solver sweep reads come first, so a point's hot data spans three cache
 # lines, not four.
@@ -134,7 +141,7 @@ def colour_scratch(bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
     """Lengths of one float row and one int row."""
     colour_floats, colour_ints = colour_sizes(bodies, points)
-    floats = bodies * TERMS + points * POINT_F + points * MERGED_F + colour_floats
+    floats = bodies * (TERMS + SWEPT_F) + points * POINT_F + points * MERGED_F + colour_floats
     ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies + colour_ints
     return floats, ints
 
@@ -162,6 +169,7 @@ class Scratch(NamedTuple):
     tuple, so a kernel reads ``scratch.points`` and nothing is copied."""
 
     terms: np.ndarray  # (N, TERMS) per-body step terms
+    swept: np.ndarray  # (SWEPT_F, N) the broadphase's boxes in sweep order
     points: np.ndarray  # (C, POINT_F) this step's contact points
     merged: np.ndarray  # (C, MERGED_F) the contact cache being written
     point_ids: np.ndarray  # (C, 3) body A, body B, feature of each point
@@ -183,6 +191,8 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at = 0
     terms = floats[at : at + bodies * TERMS].reshape(bodies, TERMS)
     at += bodies * TERMS
+    swept = floats[at : at + bodies * SWEPT_F].reshape(SWEPT_F, bodies)
+    at += bodies * SWEPT_F
     point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
     at += points * POINT_F
     merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
@@ -206,7 +216,7 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at += bodies
     coloured_ints = ints[at : at + colour_ints]
     return Scratch(
-        terms, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
+        terms, swept, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
         parents, members, coloured_floats, coloured_ints,
     )  # fmt: skip
 
@@ -218,6 +228,7 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
     colour_ints = colour_sizes(bodies, points)[1]
     return Scratch(
         terms=((bodies, TERMS), f8),
+        swept=((SWEPT_F, bodies), f8),
         points=((points, POINT_F), f8),
         merged=((points, MERGED_F), f8),
         point_ids=((points, 3), i8),
@@ -239,4 +250,5 @@ def scratch_row(parts, j):
     return Scratch(
         parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
         parts[6][j], parts[7][j], parts[8][j], parts[9][j], parts[10][j], parts[11][j],
+        parts[12][j],
     )  # fmt: skip
