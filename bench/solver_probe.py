@@ -59,7 +59,7 @@ import numpy as np
 
 from impulse2d.core import context, solver
 from impulse2d.core.colouring import colour_step, unpack_step
-from impulse2d.core.lanes import solve_coloured
+from impulse2d.core.lanes import load_states, solve_coloured, store_states
 from impulse2d.core.state import INV_MASS
 from impulse2d.core.workspace import (
     AGAINST_PLANE,
@@ -67,6 +67,7 @@ from impulse2d.core.workspace import (
     NORMAL_J,
     NORMAL_MASS,
     SEP0,
+    STATE_F,
     Workspace,
     colour_scratch,
     views,
@@ -99,8 +100,11 @@ def engine_coloured(body, ctx, terms, points, ids, n, passes, floats, ints):
     of what is left; ``floats``, ``ints``: ``workspace.colour_scratch``)."""
     count = colour_step(terms, points, ids, n, floats, ints, ctx[context.RESTITUTION_THRESHOLD])
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
-    for _ in range(passes):
-        solve_coloured(body, 0, values, terms, ids, floats, ints)
+    states = np.zeros((terms.shape[0], STATE_F))
+    for _ in range(passes):  # as pipeline.substeps: the states loaded, solved, stored
+        load_states(body, 0, terms, states)
+        solve_coloured(states, values, ids, floats, ints)
+        store_states(body, 0, states)
         solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count)
     unpack_step(points, floats, ints, count)
 

@@ -19,12 +19,13 @@ import time
 from pathlib import Path
 
 import numba
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/: the probe, the scenes
 import solver_probe
 from engine_runs import _pyramid_world
 from impulse2d.core import colouring, contacts, context, lanes, solver
-from impulse2d.core.workspace import colour_scratch
+from impulse2d.core.workspace import STATE_F, colour_scratch
 from profile_step import _case, rain_case
 from report import fmt, print_table
 from scenes import large_pyramid
@@ -60,9 +61,12 @@ def _pack(points, floats, ints, count, threshold, repeats):
 @numba.njit(nogil=True)
 def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats):
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
+    states = np.zeros((terms.shape[0], STATE_F))
     for _ in range(repeats):
-        if rest < n:
-            lanes.solve_coloured(body, 0, values, terms, ids, floats, ints)
+        if rest < n:  # as pipeline.substeps: the body states loaded, solved, stored
+            lanes.load_states(body, 0, terms, states)
+            lanes.solve_coloured(states, values, ids, floats, ints)
+            lanes.store_states(body, 0, states)
         solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest)
 
 
@@ -73,9 +77,11 @@ def _warm(body, points, ids, n, repeats):
 
 
 @numba.njit(nogil=True)
-def _warm_coloured(body, ids, floats, ints, count, repeats):
-    for _ in range(repeats):
-        lanes.warm_start_coloured(body, 0, ids, floats, ints, count)
+def _warm_coloured(body, terms, ids, floats, ints, count, repeats):
+    states = np.zeros((terms.shape[0], STATE_F))
+    lanes.load_states(body, 0, terms, states)
+    for _ in range(repeats):  # (in the engine, between the loading and the solve pass)
+        lanes.warm_start_coloured(states, ids, floats, ints, count)
 
 
 @numba.njit(nogil=True)
@@ -119,7 +125,8 @@ def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
         ("relax pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, False,
                                                   floats, ints, rest, r)),
         ("warm start, plain order", lambda r: _warm(body, plain_points, ids, n, r)),
-        ("warm start, coloured", lambda r: _warm_coloured(body, ids, floats, ints, count, r)),
+        ("warm start, coloured", lambda r: _warm_coloured(body, terms, ids, floats, ints, count,
+                                                          r)),
         ("anchors follow, plain order", lambda r: _follow(body, ctx, terms, plain_points, ids,
                                                           n, r)),
         ("anchors follow, coloured", lambda r: _follow_coloured(body, ids, floats, ints, count,

@@ -50,6 +50,7 @@ from impulse2d.core.workspace import (
     RBY,
     SEP0,
     SHARED,
+    STATE_F,
     STEP_J,
     TANGENT_J,
     TERMS,
@@ -197,7 +198,10 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     floats, ints, count = _coloured(points, ids, terms)
     assert count == 1 and (points[:, AGAINST_PLANE] == IN_COLOUR).all()
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
-    lanes.solve_coloured(body, 0, values, terms, ids, floats, ints)
+    states = np.zeros((terms.shape[0], STATE_F))
+    lanes.load_states(body, 0, terms, states)
+    lanes.solve_coloured(states, values, ids, floats, ints)
+    lanes.store_states(body, 0, states)
     solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0)  # nothing left
     colouring.unpack_step(points, floats, ints, count)
     for column in (NORMAL_J, TANGENT_J, STEP_J, MAX_J, GROSS_J):

@@ -88,6 +88,13 @@ from .workspace import (
     PSTEP_J,
     PTANGENT_J,
     PTANGENT_MASS,
+    SDQ,
+    SDX,
+    SDY,
+    SMOVABLE,
+    SVX,
+    SVY,
+    SW,
     X0,
     Y0,
 )
@@ -256,56 +263,75 @@ def solve_lanes(con, lanes, start, end, consts) -> None:
 
 
 @kernel
-def gather(body, w, terms, ids, order, lanes, start, end) -> None:
-    """The two bodies of manifolds ``start:end`` into their lanes."""
-    for m in range(start, end):
-        a, b = ids[order[m], 0], ids[order[m], 1]
-        lanes[LVAX, m], lanes[LVAY, m] = body[w, a, VX], body[w, a, VY]
-        lanes[LWA, m] = body[w, a, OMEGA]
-        lanes[LDXA, m] = body[w, a, X] - terms[a, X0]
-        lanes[LDYA, m] = body[w, a, Y] - terms[a, Y0]
-        lanes[LDQA, m] = body[w, a, ANGLE] - terms[a, ANGLE0]
-        lanes[LVBX, m], lanes[LVBY, m] = body[w, b, VX], body[w, b, VY]
-        lanes[LWB, m] = body[w, b, OMEGA]
-        lanes[LDXB, m] = body[w, b, X] - terms[b, X0]
-        lanes[LDYB, m] = body[w, b, Y] - terms[b, Y0]
-        lanes[LDQB, m] = body[w, b, ANGLE] - terms[b, ANGLE0]
+def load_states(body, w, terms, states) -> None:
+    """Every body's velocity, motion since the step start and whether it moves into its
+    state row (``workspace.STATE_F``), for the coloured passes that follow."""
+    for i in range(terms.shape[0]):
+        states[i, SVX], states[i, SVY] = body[w, i, VX], body[w, i, VY]
+        states[i, SW] = body[w, i, OMEGA]
+        states[i, SDX] = body[w, i, X] - terms[i, X0]
+        states[i, SDY] = body[w, i, Y] - terms[i, Y0]
+        states[i, SDQ] = body[w, i, ANGLE] - terms[i, ANGLE0]
+        states[i, SMOVABLE] = terms[i, MOVABLE]
 
 
 @kernel
-def scatter(body, w, terms, ids, order, lanes, start, end) -> None:
+def store_states(body, w, states) -> None:
+    """The moving bodies' velocities back from their state rows (the passes wrote no
+    other)."""
+    for i in range(states.shape[0]):
+        if states[i, SMOVABLE] != 0.0:
+            body[w, i, VX], body[w, i, VY] = states[i, SVX], states[i, SVY]
+            body[w, i, OMEGA] = states[i, SW]
+
+
+@kernel
+def gather(states, ids, order, lanes, start, end) -> None:
+    """The two bodies of manifolds ``start:end`` into their lanes."""
+    for m in range(start, end):
+        a, b = ids[order[m], 0], ids[order[m], 1]
+        lanes[LVAX, m], lanes[LVAY, m] = states[a, SVX], states[a, SVY]
+        lanes[LWA, m], lanes[LDXA, m] = states[a, SW], states[a, SDX]
+        lanes[LDYA, m], lanes[LDQA, m] = states[a, SDY], states[a, SDQ]
+        lanes[LVBX, m], lanes[LVBY, m] = states[b, SVX], states[b, SVY]
+        lanes[LWB, m], lanes[LDXB, m] = states[b, SW], states[b, SDX]
+        lanes[LDYB, m], lanes[LDQB, m] = states[b, SDY], states[b, SDQ]
+
+
+@kernel
+def scatter(states, ids, order, lanes, start, end) -> None:
     """The lanes' velocities back to the bodies that move (a colour holds each once; a
     body that cannot move is never written: its lanes did not change it)."""
     for m in range(start, end):
         a, b = ids[order[m], 0], ids[order[m], 1]
-        if terms[a, MOVABLE] != 0.0:
-            body[w, a, VX], body[w, a, VY] = lanes[LVAX, m], lanes[LVAY, m]
-            body[w, a, OMEGA] = lanes[LWA, m]
-        if terms[b, MOVABLE] != 0.0:
-            body[w, b, VX], body[w, b, VY] = lanes[LVBX, m], lanes[LVBY, m]
-            body[w, b, OMEGA] = lanes[LWB, m]
+        if states[a, SMOVABLE] != 0.0:
+            states[a, SVX], states[a, SVY] = lanes[LVAX, m], lanes[LVAY, m]
+            states[a, SW] = lanes[LWA, m]
+        if states[b, SMOVABLE] != 0.0:
+            states[b, SVX], states[b, SVY] = lanes[LVBX, m], lanes[LVBY, m]
+            states[b, SW] = lanes[LWB, m]
 
 
 @kernel
-def solve_coloured(body, w, ctx_values, terms, ids, colour_floats, colour_ints) -> None:
-    """One pass over the coloured manifolds, colour after colour. ``ctx_values`` is
-    ``(1/h, push speed, biased pass?)``; ``colour_floats``, ``colour_ints`` the scratch
-    ``colouring.colour_arrays`` cuts."""
+def solve_coloured(states, ctx_values, ids, colour_floats, colour_ints) -> None:
+    """One pass over the coloured manifolds, colour after colour, on the body ``states``
+    (``load_states``). ``ctx_values`` is ``(1/h, push speed, biased pass?)``;
+    ``colour_floats``, ``colour_ints`` the scratch ``colouring.colour_arrays`` cuts."""
     c = colour_arrays(colour_floats, colour_ints)
     con, lanes, order, starts = c.con, c.lanes, c.order, c.starts
     for colour in range(COLOURS):
         start, end = starts[colour], starts[colour + 1]
         if start < end:
-            gather(body, w, terms, ids, order, lanes, start, end)
+            gather(states, ids, order, lanes, start, end)
             solve_lanes(con, lanes, start, end, ctx_values)
-            scatter(body, w, terms, ids, order, lanes, start, end)
+            scatter(states, ids, order, lanes, start, end)
 
 
 @kernel
-def warm_start_coloured(body, w, ids, colour_floats, colour_ints, count) -> None:
+def warm_start_coloured(states, ids, colour_floats, colour_ints, count) -> None:
     """``solver.warm_start`` for the coloured manifolds: each point's accumulated
-    impulses applied again, from ``con`` (one manifold after another: a sum of pushes,
-    in the order of the colours)."""
+    impulses applied again, from ``con``, to the body ``states`` (one manifold after
+    another: a sum of pushes, in the order of the colours)."""
     c = colour_arrays(colour_floats, colour_ints)
     con, order = c.con, c.order
     for m in range(count):
@@ -321,12 +347,12 @@ def warm_start_coloured(body, w, ids, colour_floats, colour_ints, count) -> None
                 px, py = normal * nx + tangent * ny, normal * ny - tangent * nx
                 angular_a = con[base + PRNA, m] * normal + con[base + PRTA, m] * tangent
                 angular_b = con[base + PRNB, m] * normal + con[base + PRTB, m] * tangent
-                body[w, a, VX] -= ima * px
-                body[w, a, VY] -= ima * py
-                body[w, a, OMEGA] -= iia * angular_a
-                body[w, b, VX] += imb * px
-                body[w, b, VY] += imb * py
-                body[w, b, OMEGA] += iib * angular_b
+                states[a, SVX] -= ima * px
+                states[a, SVY] -= ima * py
+                states[a, SW] -= iia * angular_a
+                states[b, SVX] += imb * px
+                states[b, SVY] += imb * py
+                states[b, SW] += iib * angular_b
 
 
 @inline

@@ -48,7 +48,13 @@ from .integrate import (
     spring_stability,
     step_terms,
 )
-from .lanes import follow_coloured, solve_coloured, warm_start_coloured
+from .lanes import (
+    follow_coloured,
+    load_states,
+    solve_coloured,
+    store_states,
+    warm_start_coloured,
+)
 from .narrowphase import find_points
 from .projection import project_out_of_planes
 from .refusal import leaves_envelope, save_world
@@ -155,11 +161,12 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once. A coloured
     world's ``coloured`` manifolds live in their own columns over the substeps, warm
-    started, solved and their anchors moved there (``lanes.py``); the other points
+    started, solved and their anchors moved there (``lanes.py``), their passes on the
+    bodies' compact ``states`` (loaded before, stored after); the other points
     (``rest``) take ``warm_start``, ``follow_bodies`` and the sweeps, which a world whose
     points are all coloured does not call."""
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
-    floats, ints = scratch.colour_floats, scratch.colour_ints
+    floats, ints, states = scratch.colour_floats, scratch.colour_ints, scratch.states
     h = ctx[context.H]
     biased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
     unbiased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], False)
@@ -172,15 +179,19 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
         if rest:
             warm_start(body, w, points, ids, n, coloured > 0)
         if coloured:
-            warm_start_coloured(body, w, ids, floats, ints, coloured)
-            solve_coloured(body, w, biased, terms, ids, floats, ints)
+            load_states(body, w, terms, states)
+            warm_start_coloured(states, ids, floats, ints, coloured)
+            solve_coloured(states, biased, ids, floats, ints)
+            store_states(body, w, states)
         solve(body, w, ctx, terms, points, ids, n, rest)
         integrate_positions(body, w, terms, h)
         if rest:
             follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
         if coloured:
             follow_coloured(body, w, ids, floats, ints, coloured)
-            solve_coloured(body, w, unbiased, terms, ids, floats, ints)
+            load_states(body, w, terms, states)
+            solve_coloured(states, unbiased, ids, floats, ints)
+            store_states(body, w, states)
         relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest)
     if coloured:  # the coloured points' impulses, back where the rest read them
         unpack_step(points, floats, ints, coloured)

@@ -28,6 +28,8 @@ Body terms ``terms`` (N, TERMS) float64, for the current step:
 
 The broadphase's sweep ``swept`` (SWEPT_F, N) float64: the boxes again, in the order the
 sweep takes them, one array per field (its inner loop then reads consecutive numbers).
+The solver's body states ``states`` (N, STATE_F) float64: a coloured world's passes
+gather from and scatter to these rows, not the bodies' 30 columns (``lanes.py``).
 
 Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
 feature), one row per contact point of the step, sorted by (A, B, feature):
@@ -68,6 +70,11 @@ TERMS = 19
 # body swept (broadphase.sweep): its box, and 1.0 if it moves plus 2.0 if it is dynamic.
 SWEPT_LEFT, SWEPT_RIGHT, SWEPT_BOTTOM, SWEPT_TOP, SWEPT_FLAGS = range(5)
 SWEPT_F = 5
+# The solver's body states ``states[i, field]`` in a coloured world (lanes.py): what its
+# passes read and write of body i, in one cache line (Box2D's b2BodyState): velocity,
+# motion since the step start, whether contacts move it (1.0).
+SVX, SVY, SW, SDX, SDY, SDQ, SMOVABLE = range(7)
+STATE_F = 8
 
 # The columns a solver sweep reads come first, so a point's hot data spans three cache
 # lines, not four.
@@ -141,7 +148,7 @@ def colour_scratch(bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
 def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
     """Lengths of one float row and one int row."""
     colour_floats, colour_ints = colour_sizes(bodies, points)
-    floats = bodies * (TERMS + SWEPT_F) + points * POINT_F + points * MERGED_F + colour_floats
+    floats = bodies * (TERMS + SWEPT_F + STATE_F) + points * (POINT_F + MERGED_F) + colour_floats
     ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies + colour_ints
     return floats, ints
 
@@ -170,6 +177,7 @@ class Scratch(NamedTuple):
 
     terms: np.ndarray  # (N, TERMS) per-body step terms
     swept: np.ndarray  # (SWEPT_F, N) the broadphase's boxes in sweep order
+    states: np.ndarray  # (N, STATE_F) the coloured passes' body states
     points: np.ndarray  # (C, POINT_F) this step's contact points
     merged: np.ndarray  # (C, MERGED_F) the contact cache being written
     point_ids: np.ndarray  # (C, 3) body A, body B, feature of each point
@@ -193,6 +201,8 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at += bodies * TERMS
     swept = floats[at : at + bodies * SWEPT_F].reshape(SWEPT_F, bodies)
     at += bodies * SWEPT_F
+    states = floats[at : at + bodies * STATE_F].reshape(bodies, STATE_F)
+    at += bodies * STATE_F
     point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
     at += points * POINT_F
     merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
@@ -216,8 +226,8 @@ def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs:
     at += bodies
     coloured_ints = ints[at : at + colour_ints]
     return Scratch(
-        terms, swept, point_rows, merged, point_ids, merged_ids, pair_rows, sorted_pairs, buckets,
-        parents, members, coloured_floats, coloured_ints,
+        terms, swept, states, point_rows, merged, point_ids, merged_ids, pair_rows,
+        sorted_pairs, buckets, parents, members, coloured_floats, coloured_ints,
     )  # fmt: skip
 
 
@@ -229,6 +239,7 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
     return Scratch(
         terms=((bodies, TERMS), f8),
         swept=((SWEPT_F, bodies), f8),
+        states=((bodies, STATE_F), f8),
         points=((points, POINT_F), f8),
         merged=((points, MERGED_F), f8),
         point_ids=((points, 3), i8),
@@ -250,5 +261,5 @@ def scratch_row(parts, j):
     return Scratch(
         parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
         parts[6][j], parts[7][j], parts[8][j], parts[9][j], parts[10][j], parts[11][j],
-        parts[12][j],
+        parts[12][j], parts[13][j],
     )  # fmt: skip
