@@ -54,6 +54,7 @@ from .workspace import (
     CNX,
     CNY,
     COLOURS,
+    FOLLOW0,
     LDQA,
     LDQB,
     LDXA,
@@ -69,6 +70,7 @@ from .workspace import (
     MOVABLE,
     PBOUNCES,
     PDRIFT,
+    PER_FOLLOW,
     PER_POINT,
     PGROSS_J,
     PKEEP,
@@ -356,21 +358,34 @@ def warm_start_coloured(states, ids, colour_floats, colour_ints, count) -> None:
 
 
 @inline
-def _jacobian(con, m, base, rax, ray, rbx, rby) -> None:
-    """``contacts.set_jacobian`` on ``con``: the cross terms and masses of the point at
-    ``base`` of manifold ``m`` for the anchors ``(rax, ray)`` on A and ``(rbx, rby)`` on
-    B (the same arithmetic, so a coloured point's Jacobian is its point row's)."""
-    nx, ny = con[CNX, m], con[CNY, m]
+def _jacobian(nx, ny, ima, imb, iia, iib, rax, ray, rbx, rby):
+    """``contacts.set_jacobian``'s arithmetic on values: the cross terms and masses of a
+    point with the anchors ``(rax, ray)`` on A and ``(rbx, rby)`` on B, ``(rA x n, rB x n,
+    rA x t, rB x t, normal mass, tangent mass)`` (so a coloured point's Jacobian is its
+    point row's)."""
     tx, ty = ny, -nx
     rna, rnb = rax * ny - ray * nx, rbx * ny - rby * nx
     rta, rtb = rax * ty - ray * tx, rbx * ty - rby * tx
-    con[base + PRNA, m], con[base + PRNB, m] = rna, rnb
-    con[base + PRTA, m], con[base + PRTB, m] = rta, rtb
-    ima, imb, iia, iib = con[CIMA, m], con[CIMB, m], con[CIIA, m], con[CIIB, m]
     k_normal = ima + imb + iia * rna * rna + iib * rnb * rnb
     k_tangent = ima + imb + iia * rta * rta + iib * rtb * rtb
-    con[base + PNORMAL_MASS, m] = 1.0 / k_normal if k_normal > 0.0 else 0.0
-    con[base + PTANGENT_MASS, m] = 1.0 / k_tangent if k_tangent > 0.0 else 0.0
+    # Divided by 1 where the mass is not taken (a division under a branch does not
+    # vectorise; the result is the same).
+    normal_mass = 1.0 / (k_normal if k_normal > 0.0 else 1.0)
+    tangent_mass = 1.0 / (k_tangent if k_tangent > 0.0 else 1.0)
+    return (rna, rnb, rta, rtb, normal_mass if k_normal > 0.0 else 0.0,
+            tangent_mass if k_tangent > 0.0 else 0.0)  # fmt: skip
+
+
+@inline
+def _followed(nx, ny, ima, imb, iia, iib, rax, ray, rbx, rby, xa, ya, xb, yb, on_a):
+    """A point's Jacobian (``_jacobian``) with one anchor moved to the other: B's to A's
+    if ``on_a`` (A's is the material point), else A's to B's; ``x``, ``y`` the bodies'
+    positions now, ``r`` the anchors as the narrowphase made them."""
+    mx = (xb + rbx) - (xa + rax)
+    my = (yb + rby) - (ya + ray)
+    return _jacobian(nx, ny, ima, imb, iia, iib, rax if on_a else rax + mx,
+                     ray if on_a else ray + my, rbx - mx if on_a else rbx,
+                     rby - my if on_a else rby)  # fmt: skip
 
 
 @kernel
@@ -378,22 +393,73 @@ def follow_coloured(body, w, ids, colour_floats, colour_ints, count) -> None:
     """``contacts.follow_bodies`` for the coloured manifolds (two boxes: never two
     discs): after the positions moved, the anchor that is not a material point of its
     body goes to the one that is, so both push at one world point; a point that may
-    bounce keeps its Jacobian and records how far its anchors drifted apart."""
+    bounce keeps its Jacobian and records how far its anchors drifted apart
+    (``_record_drift``). A point against an immovable body keeps its Jacobian too: it
+    takes any torque, there is nothing to keep.
+
+    Written as the lane loop is (``solve_lanes``), so that it vectorises: the bodies'
+    positions gathered into the lanes first (their velocity rows, free between passes),
+    then every point's new Jacobian computed and stored where it is taken, its old one
+    stored back where it is kept (a select, not a branch)."""
     c = colour_arrays(colour_floats, colour_ints)
-    con, order = c.con, c.order
+    con, order, lanes = c.con, c.order, c.lanes
+    for m in range(count):
+        a, b = ids[order[m], 0], ids[order[m], 1]
+        lanes[LVAX, m], lanes[LVAY, m] = body[w, a, X], body[w, a, Y]
+        lanes[LVBX, m], lanes[LVBY, m] = body[w, b, X], body[w, b, Y]
+    for m in range(np.uint64(0), np.uint64(count)):
+        xa, ya, xb, yb = lanes[LVAX, m], lanes[LVAY, m], lanes[LVBX, m], lanes[LVBY, m]
+        nx, ny = con[CNX, m], con[CNY, m]
+        ima, imb, iia, iib = con[CIMA, m], con[CIMB, m], con[CIIA, m], con[CIIB, m]
+        moves = (ima != 0.0) & (imb != 0.0)
+        # Point 0, then point 1, written out: a loop over them would stop the
+        # vectoriser, which takes innermost loops only.
+        f, base = FOLLOW0, POINT0
+        rax, ray, rbx, rby = con[f + PRAX, m], con[f + PRAY, m], con[f + PRBX, m], con[f + PRBY, m]
+        old = (con[base + PRNA, m], con[base + PRNB, m], con[base + PRTA, m],
+               con[base + PRTB, m], con[base + PNORMAL_MASS, m],
+               con[base + PTANGENT_MASS, m])  # fmt: skip
+        j = _followed(nx, ny, ima, imb, iia, iib, rax, ray, rbx, rby, xa, ya, xb, yb,
+                      con[f + PKEEP, m] == 0.0)  # fmt: skip
+        follows = moves & (con[f + PBOUNCES, m] == 0.0)
+        con[base + PRNA, m] = j[0] if follows else old[0]
+        con[base + PRNB, m] = j[1] if follows else old[1]
+        con[base + PRTA, m] = j[2] if follows else old[2]
+        con[base + PRTB, m] = j[3] if follows else old[3]
+        con[base + PNORMAL_MASS, m] = j[4] if follows else old[4]
+        con[base + PTANGENT_MASS, m] = j[5] if follows else old[5]
+        f, base = FOLLOW0 + PER_FOLLOW, POINT0 + PER_POINT
+        rax, ray, rbx, rby = con[f + PRAX, m], con[f + PRAY, m], con[f + PRBX, m], con[f + PRBY, m]
+        old = (con[base + PRNA, m], con[base + PRNB, m], con[base + PRTA, m],
+               con[base + PRTB, m], con[base + PNORMAL_MASS, m],
+               con[base + PTANGENT_MASS, m])  # fmt: skip
+        j = _followed(nx, ny, ima, imb, iia, iib, rax, ray, rbx, rby, xa, ya, xb, yb,
+                      con[f + PKEEP, m] == 0.0)  # fmt: skip
+        follows = moves & (con[f + PBOUNCES, m] == 0.0)
+        con[base + PRNA, m] = j[0] if follows else old[0]
+        con[base + PRNB, m] = j[1] if follows else old[1]
+        con[base + PRTA, m] = j[2] if follows else old[2]
+        con[base + PRTB, m] = j[3] if follows else old[3]
+        con[base + PNORMAL_MASS, m] = j[4] if follows else old[4]
+        con[base + PTANGENT_MASS, m] = j[5] if follows else old[5]
+    _record_drift(body, w, ids, con, order, count)
+
+
+@kernel
+def _record_drift(body, w, ids, con, order, count) -> None:
+    """The points that may bounce (between two moving bodies): the farthest their
+    anchors have drifted apart this step (``contacts.follow_bodies``)."""
     for m in range(count):
         if con[CIMA, m] == 0.0 or con[CIMB, m] == 0.0:
-            continue  # against an immovable body: it takes any torque, nothing to keep
+            continue
         a, b = ids[order[m], 0], ids[order[m], 1]
         for p in range(2):
-            base, follow = point_base(p), follow_base(p)
-            rax, ray = con[follow + PRAX, m], con[follow + PRAY, m]
-            rbx, rby = con[follow + PRBX, m], con[follow + PRBY, m]
-            mx = (body[w, b, X] + rbx) - (body[w, a, X] + rax)
-            my = (body[w, b, Y] + rby) - (body[w, a, Y] + ray)
+            follow = follow_base(p)
             if con[follow + PBOUNCES, m] != 0.0:
+                mx = (body[w, b, X] + con[follow + PRBX, m]) - (
+                    body[w, a, X] + con[follow + PRAX, m]
+                )
+                my = (body[w, b, Y] + con[follow + PRBY, m]) - (
+                    body[w, a, Y] + con[follow + PRAY, m]
+                )
                 con[follow + PDRIFT, m] = max(con[follow + PDRIFT, m], math.hypot(mx, my))
-            elif con[follow + PKEEP, m] == 0.0:
-                _jacobian(con, m, base, rax, ray, rbx - mx, rby - my)
-            else:
-                _jacobian(con, m, base, rax + mx, ray + my, rbx, rby)
