@@ -515,15 +515,22 @@ def test_a_heavy_ball_cannot_drive_a_light_plank_behind_the_ground(monkeypatch, 
     several sweeps (in a large world, ``_PLANE_SWEEPS`` solves of their pair where it
     stands), so the plank's centre stays in front (it went 8 mm behind with one)."""
     _world_rules(monkeypatch, colour_from)
+    world, plank, ground = _ball_over_plank()
+    for _ in range(100):
+        world.step(0.03125)
+        assert (plank.position - ground.point) @ ground.normal > 0.05
+
+
+def _ball_over_plank() -> tuple[p2.World, p2.Box, p2.Plane]:
+    """A 1 kg ball above a 0.1 kg plank lying on the ground, one substep (the scene of
+    the test above); returns the world, the plank and the ground."""
     world = p2.World(substeps=1)
     world.add(p2.Circle(radius=1.0, restitution=0.0, friction=0.0))
     plank = world.add(
         p2.Box(position=(0.0, -4.0), height=0.25, mass=0.1, restitution=0.0, friction=0.0)
     )
     ground = world.add(p2.Plane(point=(0.0, -5.515388203202208), friction=0.0))
-    for _ in range(100):
-        world.step(0.03125)
-        assert (plank.position - ground.point) @ ground.normal > 0.05
+    return world, plank, ground
 
 
 def test_a_spring_cannot_pull_a_centre_behind_a_plane():
@@ -604,12 +611,7 @@ def test_a_large_world_solves_a_lone_plank_on_the_ground_as_a_small_world_does(m
     ends = []
     for colour_from in (None, 0):
         _world_rules(monkeypatch, colour_from)
-        world = p2.World(substeps=1)
-        world.add(p2.Circle(radius=1.0, restitution=0.0, friction=0.0))
-        plank = world.add(
-            p2.Box(position=(0.0, -4.0), height=0.25, mass=0.1, restitution=0.0, friction=0.0)
-        )
-        ground = world.add(p2.Plane(point=(0.0, -5.515388203202208), friction=0.0))
+        world, plank, ground = _ball_over_plank()
         most = 0  # the plank's points against the ground, at most, over the steps
         for _ in range(100):
             world.step(0.03125)
