@@ -61,7 +61,7 @@ from impulse2d.core import context, pipeline
 from impulse2d.core._jit import borrowed
 from impulse2d.core.broadphase import find_pairs
 from impulse2d.core.contacts import carry_impulses, count_dormant, prepare
-from impulse2d.core.integrate import spring_stability, step_terms
+from impulse2d.core.integrate import list_moving, spring_stability, step_terms
 from impulse2d.core.narrowphase import find_points
 from impulse2d.core.projection import project_out_of_planes
 from impulse2d.core.refusal import leaves_envelope
@@ -181,11 +181,12 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     coloured = pipeline.colour(ctx, scratch, n)
     if stages == 5:
         return n
-    pipeline.substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured)
+    n_moving = list_moving(terms, scratch.moving)
+    pipeline.substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     if stages == 6:
         return n
     project_out_of_planes(body, shapes, w, points, ids, n)
-    pipeline.finish(state, shapes, ends, sensors, w, ctx, scratch, n)
+    pipeline.finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving)
     leaves_envelope(body, body_i, shapes, w)
     return n
 

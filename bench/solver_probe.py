@@ -59,7 +59,8 @@ import numpy as np
 
 from impulse2d.core import context, solver
 from impulse2d.core.colouring import colour_step, unpack_step
-from impulse2d.core.lanes import load_states, solve_coloured, store_states
+from impulse2d.core.integrate import list_moving
+from impulse2d.core.lanes import load_moving, load_states, solve_coloured, store_states
 from impulse2d.core.state import INV_MASS
 from impulse2d.core.workspace import (
     AGAINST_PLANE,
@@ -101,10 +102,13 @@ def engine_coloured(body, ctx, terms, points, ids, n, passes, floats, ints):
     count = colour_step(terms, points, ids, n, floats, ints, ctx[context.RESTITUTION_THRESHOLD])
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
     states = np.zeros((terms.shape[0], STATE_F))
+    moving = np.zeros(terms.shape[0], np.int64)
+    moving_count = list_moving(terms, moving)
+    load_states(body, 0, terms, states)
     for _ in range(passes):  # as pipeline.substeps: the states loaded, solved, stored
-        load_states(body, 0, terms, states)
+        load_moving(body, 0, terms, states, moving, moving_count)
         solve_coloured(states, values, ids, floats, ints)
-        store_states(body, 0, states)
+        store_states(body, 0, states, moving, moving_count)
         solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count)
     unpack_step(points, floats, ints, count)
 

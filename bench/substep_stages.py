@@ -24,7 +24,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/: the probe, the scenes
 import solver_probe
 from engine_runs import _pyramid_world
-from impulse2d.core import colouring, contacts, context, lanes, solver
+from impulse2d.core import colouring, contacts, context, integrate, lanes, solver
 from impulse2d.core.workspace import STATE_F, colour_scratch
 from profile_step import _case, rain_case
 from report import fmt, print_table
@@ -62,11 +62,15 @@ def _pack(points, floats, ints, count, threshold, repeats):
 def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats):
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
     states = np.zeros((terms.shape[0], STATE_F))
+    moving = np.zeros(terms.shape[0], np.int64)
+    count = integrate.list_moving(terms, moving)
+    if rest < n:
+        lanes.load_states(body, 0, terms, states)
     for _ in range(repeats):
         if rest < n:  # as pipeline.substeps: the body states loaded, solved, stored
-            lanes.load_states(body, 0, terms, states)
+            lanes.load_moving(body, 0, terms, states, moving, count)
             lanes.solve_coloured(states, values, ids, floats, ints)
-            lanes.store_states(body, 0, states)
+            lanes.store_states(body, 0, states, moving, count)
         solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest)
 
 

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import impulse2d as p2
-from impulse2d.core import colouring, context, lanes, solver
+from impulse2d.core import colouring, context, integrate, lanes, solver
 from impulse2d.core.contacts import set_jacobian
 from impulse2d.core.state import ANGLE, BODY_F, OMEGA, VX, VY, X, Y
 from impulse2d.core.workspace import (
@@ -36,6 +36,7 @@ from impulse2d.core.workspace import (
     MAX_J,
     MIXED_FRICTION,
     MOVABLE,
+    MOVING,
     NORMAL_J,
     NX,
     NY,
@@ -154,7 +155,7 @@ def manifolds(draw):
         body[0, i, [VX, VY, OMEGA]] = draw(f) * 3, draw(f) * 3, draw(f) * 5
         body[0, i, [X, Y, ANGLE]] = draw(f) * 0.01, draw(f) * 0.01, draw(f) * 0.01
     terms = np.zeros((2, TERMS))
-    terms[:, MOVABLE] = 1.0
+    terms[:, MOVING] = terms[:, MOVABLE] = 1.0  # both move, as awake dynamic bodies do
     points, ids = np.zeros((2, POINT_F)), np.array([[0, 1, 0], [0, 1, 1]])
     angle = draw(st.floats(-0.3, 0.3))
     nx, ny = np.sin(angle), np.cos(angle)
@@ -199,9 +200,10 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     assert count == 1 and (points[:, AGAINST_PLANE] == IN_COLOUR).all()
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
     states = np.zeros((terms.shape[0], STATE_F))
+    moving = np.zeros(terms.shape[0], np.int64)
     lanes.load_states(body, 0, terms, states)
     lanes.solve_coloured(states, values, ids, floats, ints)
-    lanes.store_states(body, 0, states)
+    lanes.store_states(body, 0, states, moving, integrate.list_moving(terms, moving))
     solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0)  # nothing left
     colouring.unpack_step(points, floats, ints, count)
     for column in (NORMAL_J, TANGENT_J, STEP_J, MAX_J, GROSS_J):

@@ -3,6 +3,7 @@ same functions run in CPython and give bitwise the same state, for a scene with 
 shape pair, a spring, sensors, breakable bodies, a kinematic body, a batch and a shot run
 to rest on several threads."""
 
+import itertools
 import os
 import subprocess
 import sys
@@ -83,6 +84,50 @@ def test_stale_cache_is_emptied_and_current_cache_kept(tmp_path, monkeypatch):
     _jit.clear_stale_cache(str(cache))
     assert not current.exists()
     assert (cache / "kernels.sha256").read_text() == "another digest"
+
+
+def test_cut_is_the_slice_and_reshape_it_stands_for_and_writes_through():
+    """``_jit.cut(flat, start, rows, cols)`` is ``flat[start:start + rows * cols]`` as
+    a (rows, cols) array, on the same memory (how a call cuts its scratch row), for float
+    and int rows and any start; and the scratch views a step uses are those cuts."""
+    import numba
+
+    from impulse2d.core import workspace
+    from impulse2d.core._jit import cut
+
+    @numba.njit
+    def cut_and_write(flat, start, rows, cols):
+        view = cut(flat, start, rows, cols)
+        view[rows - 1, cols - 1] = -1
+        return view.copy()
+
+    for dtype in (np.float64, np.int64):
+        for start, rows, cols in ((0, 3, 4), (5, 2, 7), (11, 1, 1), (2, 4, 1)):
+            flat = np.arange(40, dtype=dtype)
+            expected = flat[start : start + rows * cols].reshape(rows, cols).copy()
+            expected[-1, -1] = -1
+            np.testing.assert_array_equal(cut_and_write(flat, start, rows, cols), expected)
+            assert flat[start + rows * cols - 1] == -1  # the caller's memory
+    bodies, points, pairs = 5, 9, 4
+    floats, ints = (
+        np.arange(n, dtype=t)
+        for n, t in zip(
+            workspace.row_sizes(bodies, points, pairs), (np.float64, np.int64), strict=True
+        )
+    )
+    scratch = workspace.views(floats, ints, bodies, points, pairs)
+    shapes = workspace.part_shapes(bodies, points, pairs)
+    spans = {np.float64: [], np.int64: []}
+    for part, (shape, dtype) in zip(scratch, shapes, strict=True):
+        row = floats if dtype is np.float64 else ints
+        assert part.shape == shape and part.dtype == dtype and part.flags.c_contiguous
+        start = (part.ctypes.data - row.ctypes.data) // row.itemsize
+        np.testing.assert_array_equal(part.ravel(), row[start : start + part.size])
+        spans[dtype].append((start, start + part.size))
+    for dtype, row in ((np.float64, floats), (np.int64, ints)):  # the parts tile the row
+        ordered = sorted(spans[dtype])
+        assert ordered[0][0] == 0 and ordered[-1][1] == row.size
+        assert all(a[1] == b[0] for a, b in itertools.pairwise(ordered))
 
 
 def test_a_borrowed_array_is_the_same_memory_and_costs_no_reference():

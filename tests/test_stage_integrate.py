@@ -139,6 +139,11 @@ def test_motion_types_give_their_step_masses():
     assert t[asleep.slot, [MOVING, MOVABLE, SPEED]].tolist() == [0, 0, 0]
     assert t[disabled.slot, LEFT] == np.inf and t[ground.slot, LEFT] == np.inf
     assert np.isfinite(t[[dynamic.slot, fixed.slot, kinematic.slot, asleep.slot], LEFT]).all()
+    # The bodies the substeps' loops walk: the dynamic and the kinematic one, in slot order
+    # (the list's slots after its count are left as the loop wrote them, unread).
+    moving = np.full(t.shape[0], -1, np.int64)
+    count = integrate.list_moving(t, moving)
+    assert moving[:count].tolist() == sorted([dynamic.slot, kinematic.slot])
 
 
 def test_acceleration_terms_are_h_times_g_plus_f_over_m():
@@ -204,12 +209,15 @@ def test_one_substep_of_the_kernels_by_hand():
     body.apply_force((6.0, 0.0))
     terms = terms_of(world)
     state, h = world.state, DT / 2
-    integrate.integrate_velocities(state.body, 0, terms)
+    moving = np.zeros(terms.shape[0], np.int64)
+    count = integrate.list_moving(terms, moving)
+    assert count == 1 and moving[0] == 0  # the one body, in slot 0
+    integrate.integrate_velocities(state.body, 0, terms, moving, count)
     v = np.array([4, 1]) * math.exp(-0.5 * h) + h * np.array([3.0, -9.81])
     w = -2 * math.exp(-0.25 * h)
     np.testing.assert_allclose(body.velocity, v, rtol=1e-15)
     assert body.angular_velocity == pytest.approx(w, rel=1e-15)
-    integrate.integrate_positions(state.body, 0, terms, h)
+    integrate.integrate_positions(state.body, 0, h, moving, count)
     np.testing.assert_allclose(body.position, np.array([1, 2]) + h * v, rtol=1e-15)
     assert body.angle == pytest.approx(0.3 + h * w, rel=1e-15)
 

@@ -59,6 +59,7 @@ from typing import Any, TypeVar
 import numba
 from numba.core import cgutils, errors, types
 from numba.extending import intrinsic
+from numba.np.arrayobj import populate_array
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -205,3 +206,44 @@ def _same_array(array: Any) -> Any:
 # for a kernel's caller that holds ``array`` for as long as the kernel runs. Without the
 # compiler (NUMBA_DISABLE_JIT) the array itself: CPython counts its references anyway.
 borrowed = _same_array if JIT_DISABLED else _borrowed
+
+
+@intrinsic
+def _cut(typingctx: Any, flat: types.Type, start: types.Type, rows: types.Type, cols: types.Type):
+    """``flat[start : start + rows * cols]`` as a C-contiguous ``(rows, cols)`` array,
+    borrowed (as ``borrowed``), without bounds checks: a slice and a ``reshape`` cost a
+    call a few dozen nanoseconds each (numba normalises the slice and asks a C helper
+    whether the reshape can be a view), and a call cuts its scratch row into a dozen
+    arrays."""
+    if not (isinstance(flat, types.Array) and flat.ndim == 1 and flat.layout == "C"):
+        return None
+    if not all(isinstance(n, types.Integer) for n in (start, rows, cols)):
+        return None
+    out = types.Array(flat.dtype, 2, "C")
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        source = context.make_array(flat)(context, builder, value=args[0])
+        at, height, width = (
+            context.cast(builder, value, kind, types.intp)
+            for value, kind in zip(args[1:], signature.args[1:], strict=True)
+        )
+        size = context.get_abi_sizeof(context.get_data_type(flat.dtype))
+        itemsize = context.get_constant(types.intp, size)
+        view = context.make_array(out)(context, builder)
+        populate_array(
+            view, data=builder.gep(source.data, [at]), shape=[height, width],
+            strides=[builder.mul(width, itemsize), itemsize], itemsize=itemsize, meminfo=None,
+        )  # fmt: skip
+        return view._getvalue()
+
+    return out(flat, start, rows, cols), codegen
+
+
+def _sliced(flat: Any, start: int, rows: int, cols: int) -> Any:
+    return flat[start : start + rows * cols].reshape(rows, cols)
+
+
+# ``cut(flat, start, rows, cols)``: a (rows, cols) view of a 1-D C-contiguous array from
+# ``start`` on, borrowed; the caller makes sure it fits. Without the compiler, the
+# slice and reshape it stands for.
+cut = _sliced if JIT_DISABLED else _cut

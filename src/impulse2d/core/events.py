@@ -110,15 +110,18 @@ def in_region(sensor, sensors, w, q, x, y) -> bool:
 
 
 @kernel
-def sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms):
-    """Report, and switch off if the sensor says so, the bodies that moved this step and
-    whose centre is in a sensor's region (the first sensor, in slot order)."""
+def sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms, moving,
+          count):  # fmt: skip
+    """Report, and switch off if the sensor says so, the bodies that moved this step (of
+    the ``count`` in ``moving``: ``integrate.list_moving``) and whose centre is in a
+    sensor's region (the first sensor, in slot order)."""
     watching = False
     for q in range(sensors.shape[0]):
         watching |= sensors[q, 0] >= 0 and sensor[w, q, SENSOR_ON] == 1.0
     if not watching:
         return
-    for i in range(shapes.shape[0]):
+    for k in range(count):
+        i = moving[k]
         if terms[i, MOVABLE] == 0.0 or body_i[w, i, ENABLED] == 0:
             continue
         for q in range(sensors.shape[0]):

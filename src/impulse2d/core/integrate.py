@@ -195,9 +195,23 @@ def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
 
 
 @kernel
-def integrate_velocities(body, w, terms) -> None:
-    """One substep of velocity: drag, gravity and forces, rolling resistance."""
+def list_moving(terms, moving) -> int:
+    """The slots of the bodies that move this step (``MOVING``) into ``moving``, in slot
+    order; returns how many. (Written without a branch: the slot is stored in every
+    iteration and the count advanced by the flag.)"""
+    count = 0
     for i in range(terms.shape[0]):
+        moving[count] = i
+        count += int(terms[i, MOVING] != 0.0)
+    return count
+
+
+@kernel
+def integrate_velocities(body, w, terms, moving, count) -> None:
+    """One substep of velocity: drag, gravity and forces, rolling resistance, for the
+    ``count`` moving bodies (``list_moving``) that are dynamic."""
+    for k in range(count):
+        i = moving[k]
         if terms[i, MOVABLE] == 0.0:
             continue
         body[w, i, VX] = body[w, i, VX] * body[w, i, DAMP_LINEAR] + terms[i, ACCEL_X]
@@ -212,22 +226,23 @@ def integrate_velocities(body, w, terms) -> None:
 
 
 @kernel
-def integrate_positions(body, w, terms, h) -> None:
-    """One substep of position, with the velocity just solved."""
-    for i in range(terms.shape[0]):
-        if terms[i, MOVING] == 0.0:
-            continue
+def integrate_positions(body, w, h, moving, count) -> None:
+    """One substep of position, with the velocity just solved, for the ``count`` moving
+    bodies (``list_moving``)."""
+    for k in range(count):
+        i = moving[k]
         body[w, i, X] += h * body[w, i, VX]
         body[w, i, Y] += h * body[w, i, VY]
         body[w, i, ANGLE] += h * body[w, i, OMEGA]
 
 
 @kernel
-def refresh_rotation(body, shapes, w, terms) -> None:
-    """``COS``, ``SIN`` of the boxes that turned this step, so they are current between
-    steps for everyone who reads them."""
-    for i in range(shapes.shape[0]):
-        if terms[i, MOVING] == 1.0 and shapes[i, 0] == BOX:
+def refresh_rotation(body, shapes, w, moving, count) -> None:
+    """``COS``, ``SIN`` of the boxes that moved this step (``list_moving``), so they are
+    current between steps for everyone who reads them."""
+    for k in range(count):
+        i = moving[k]
+        if shapes[i, 0] == BOX:
             body[w, i, COS] = math.cos(body[w, i, ANGLE])
             body[w, i, SIN] = math.sin(body[w, i, ANGLE])
 

@@ -264,24 +264,39 @@ def solve_lanes(con, lanes, start, end, consts) -> None:
                                                   c[second + PGROSS_J], j1[2], j1[3])  # fmt: skip
 
 
+@inline
+def _load_state(body, w, terms, states, i) -> None:
+    states[i, SVX], states[i, SVY] = body[w, i, VX], body[w, i, VY]
+    states[i, SW] = body[w, i, OMEGA]
+    states[i, SDX] = body[w, i, X] - terms[i, X0]
+    states[i, SDY] = body[w, i, Y] - terms[i, Y0]
+    states[i, SDQ] = body[w, i, ANGLE] - terms[i, ANGLE0]
+    states[i, SMOVABLE] = terms[i, MOVABLE]
+
+
 @kernel
 def load_states(body, w, terms, states) -> None:
     """Every body's velocity, motion since the step start and whether it moves into its
-    state row (``workspace.STATE_F``), for the coloured passes that follow."""
+    state row (``workspace.STATE_F``), once a step: a body that does not move keeps that
+    row over the step (``load_moving``)."""
     for i in range(terms.shape[0]):
-        states[i, SVX], states[i, SVY] = body[w, i, VX], body[w, i, VY]
-        states[i, SW] = body[w, i, OMEGA]
-        states[i, SDX] = body[w, i, X] - terms[i, X0]
-        states[i, SDY] = body[w, i, Y] - terms[i, Y0]
-        states[i, SDQ] = body[w, i, ANGLE] - terms[i, ANGLE0]
-        states[i, SMOVABLE] = terms[i, MOVABLE]
+        _load_state(body, w, terms, states, i)
 
 
 @kernel
-def store_states(body, w, states) -> None:
-    """The moving bodies' velocities back from their state rows (the passes wrote no
-    other)."""
-    for i in range(states.shape[0]):
+def load_moving(body, w, terms, states, moving, count) -> None:
+    """``load_states`` for the ``count`` moving bodies only (``integrate.list_moving``),
+    before each coloured pass: nothing changes the others' rows within a step."""
+    for k in range(count):
+        _load_state(body, w, terms, states, moving[k])
+
+
+@kernel
+def store_states(body, w, states, moving, count) -> None:
+    """The velocities of the ``count`` moving bodies that contacts move back from their
+    state rows (the passes wrote no other)."""
+    for k in range(count):
+        i = moving[k]
         if states[i, SMOVABLE] != 0.0:
             body[w, i, VX], body[w, i, VY] = states[i, SVX], states[i, SVY]
             body[w, i, OMEGA] = states[i, SW]

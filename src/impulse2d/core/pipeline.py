@@ -44,12 +44,14 @@ from .integrate import (
     apply_springs,
     integrate_positions,
     integrate_velocities,
+    list_moving,
     refresh_rotation,
     spring_stability,
     step_terms,
 )
 from .lanes import (
     follow_coloured,
+    load_moving,
     load_states,
     solve_coloured,
     store_states,
@@ -157,14 +159,15 @@ def colour(ctx, scratch, n) -> int:
 
 
 @inline
-def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
+def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
     soft bias, integrate positions, relax without it; then restitution once. A coloured
     world's ``coloured`` manifolds live in their own columns over the substeps, warm
     started, solved and their anchors moved there (``lanes.py``), their passes on the
     bodies' compact ``states`` (loaded before, stored after); the other points
     (``rest``) take ``warm_start``, ``follow_bodies`` and the sweeps, which a world whose
-    points are all coloured does not call."""
+    points are all coloured does not call. The loops over bodies walk the ``n_moving``
+    bodies that move only (``scratch.moving``, ``integrate.list_moving``)."""
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     floats, ints, states = scratch.colour_floats, scratch.colour_ints, scratch.states
     h = ctx[context.H]
@@ -172,26 +175,29 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
     unbiased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], False)
     rest = n - 2 * coloured
     count = int(ctx[context.SUBSTEPS])
+    slots = scratch.moving
+    if coloured:  # the rows of the bodies that do not move, for the whole step
+        load_states(body, w, terms, states)
     for substep in range(count):
-        integrate_velocities(body, w, terms)
+        integrate_velocities(body, w, terms, slots, n_moving)
         if ends.shape[0]:
             apply_springs(body, body_i, spring, ends, w, terms, h)
         if rest:
             warm_start(body, w, points, ids, n, coloured > 0)
         if coloured:
-            load_states(body, w, terms, states)
+            load_moving(body, w, terms, states, slots, n_moving)
             warm_start_coloured(states, ids, floats, ints, coloured)
             solve_coloured(states, biased, ids, floats, ints)
-            store_states(body, w, states)
+            store_states(body, w, states, slots, n_moving)
         solve(body, w, ctx, terms, points, ids, n, rest)
-        integrate_positions(body, w, terms, h)
+        integrate_positions(body, w, h, slots, n_moving)
         if rest:
             follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
         if coloured:
             follow_coloured(body, w, ids, floats, ints, coloured)
-            load_states(body, w, terms, states)
+            load_moving(body, w, terms, states, slots, n_moving)
             solve_coloured(states, unbiased, ids, floats, ints)
-            store_states(body, w, states)
+            store_states(body, w, states, slots, n_moving)
         relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest)
     if coloured:  # the coloured points' impulses, back where the rest read them
         unpack_step(points, floats, ints, coloured)
@@ -199,25 +205,28 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured) -> None:
 
 
 @inline
-def finish(state, shapes, ends, sensors, w, ctx, scratch, n) -> None:
-    """Everything after the solver: contacts, events, forces, sleep, the clock."""
+def finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving) -> None:
+    """Everything after the solver: contacts, events, forces, sleep, the clock
+    (``n_moving``: how many bodies ``scratch.moving`` lists)."""
     body, body_i, spring, sensor, contact, contact_i, world_i, time = state
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     merged, merged_ids = scratch.merged, scratch.merged_ids
     store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids)
     damaged = record_contacts(body, body_i, w, ctx, points, ids, n)
-    refresh_rotation(body, shapes, w, terms)
+    refresh_rotation(body, shapes, w, scratch.moving, n_moving)
     for i in range(shapes.shape[0]):
         body[w, i, FX] = body[w, i, FY] = body[w, i, TORQUE] = 0.0
         if shapes[i, 1] == KINEMATIC and body_i[w, i, ENABLED] == 1:  # awake while it moves
-            moving = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
-            body_i[w, i, AWAKE] = 1 if moving else 0
+            going = body[w, i, VX] != 0.0 or body[w, i, VY] != 0.0 or body[w, i, OMEGA] != 0.0
+            body_i[w, i, AWAKE] = 1 if going else 0
     if ctx[context.SLEEPING] == 1.0:
         parents, members = scratch.parents, scratch.members
-        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, members)
+        update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, members,
+                     scratch.moving, n_moving)  # fmt: skip
     if damaged:
         break_bodies(body, body_i, shapes, contact, contact_i, world_i, w)
-    sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms)
+    sense(body, body_i, shapes, sensor, sensors, contact, contact_i, world_i, w, terms,
+          scratch.moving, n_moving)  # fmt: skip
     time[w] += ctx[context.DT]
     world_i[w, STEPS] += 1
 
@@ -250,9 +259,10 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
     prepare(body, w, ctx, terms, points, ids, n)
     coloured = colour(ctx, scratch, n)
-    substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured)
+    n_moving = list_moving(terms, scratch.moving)
+    substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     project_out_of_planes(body, shapes, w, points, ids, n)
-    finish(state, shapes, ends, sensors, w, ctx, scratch, n)
+    finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving)
     slot, what = leaves_envelope(body, body_i, shapes, w)
     if slot >= 0:
         plan_row[BAD_SLOT], plan_row[BAD_WHAT] = slot, what

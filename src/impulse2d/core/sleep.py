@@ -101,24 +101,31 @@ def _join(parents, a, b) -> None:
 
 
 @kernel
-def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blocked) -> None:
+def update_sleep(
+    body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blocked, moving, count
+) -> None:  # fmt: skip
     """Accumulate slow time; put islands that have all been slow long enough to sleep.
+    ``moving[:count]`` are the slots of the bodies that moved (``integrate.list_moving``):
+    only they can grow slow time, and islands are joined only when one of them may sleep.
 
     Slowness uses the step's speed bound ``|vx| + |vy| + R |w|`` (a little stricter than
     the speed itself). Islands join bodies by every narrowphase point, touching or about
     to, not only those that pushed: contacts between bodies at rest push nothing, and
     islands cut along them would sleep in pieces, each woken again by its neighbour."""
     dt, limit = ctx[context.DT], ctx[context.TIME_TO_SLEEP]
-    count = parents.size
     anyone = False
-    for i in range(count):
+    for k in range(count):
+        i = moving[k]
         if terms[i, MOVABLE] == 1.0:
             slow = terms[i, SPEED] < ctx[context.SLEEP_SPEED]
             body[w, i, SLEEP_TIME] = body[w, i, SLEEP_TIME] + dt if slow else 0.0
             anyone |= body[w, i, SLEEP_TIME] >= limit
     if not anyone:
         return
-    for i in range(count):
+    # Only movable bodies are joined, roots and blocked, so only their slots are set up
+    # and walked (in slot order, as the list is).
+    for k in range(count):
+        i = moving[k]
         parents[i], blocked[i] = i, 0
     for k in range(n):
         a, b = ids[k, 0], ids[k, 1]
@@ -129,10 +136,12 @@ def update_sleep(body, body_i, spring, ends, w, ctx, terms, ids, n, parents, blo
         if spring_acts(body_i, spring, ends, w, k) and terms[a, MOVABLE] == 1.0:
             if terms[b, MOVABLE] == 1.0:
                 _join(parents, a, b)
-    for i in range(count):
+    for k in range(count):
+        i = moving[k]
         if terms[i, MOVABLE] == 1.0 and body[w, i, SLEEP_TIME] < limit:
             blocked[_root(parents, i)] = 1
-    for i in range(count):
+    for k in range(count):
+        i = moving[k]
         if terms[i, MOVABLE] == 1.0 and blocked[_root(parents, i)] == 0:
             body_i[w, i, AWAKE] = 0
             body_i[w, i, ISLAND] = _root(parents, i)

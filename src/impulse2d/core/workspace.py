@@ -4,7 +4,7 @@ None of this is state: a step writes it before reading it. On the CPU it lives i
 arrays with one row per *chunk* of worlds (the worlds one thread steps one after the
 other), so a batch of a thousand worlds needs only a few rows, and ``views`` cuts a row
 into the named 2-D arrays below (a ``Scratch``): two arrays cost a compiled call less to
-take than ten. The GPU keeps the ten apart, a row per world (``part_shapes``,
+take than ten. The GPU keeps the parts apart, a row per world (``part_shapes``,
 ``scratch_row``), each with the world axis innermost, which a reshape could not cut.
 Capacities grow when a world needs more (``runner``).
 
@@ -30,6 +30,12 @@ The broadphase's sweep ``swept`` (SWEPT_F, N) float64: the boxes again, in the o
 sweep takes them, one array per field (its inner loop then reads consecutive numbers).
 The solver's body states ``states`` (N, STATE_F) float64: a coloured world's passes
 gather from and scatter to these rows, not the bodies' 30 columns (``lanes.py``).
+The moving bodies ``moving`` (N,) int64: the slots of the bodies that move this step
+(``MOVING``), in slot order, as many as ``integrate.list_moving`` returns. The loops
+over bodies inside the substeps and at the step's end walk this list, so a sleeping
+body, a fixed one or a free slot costs them nothing (Box2D moves its awake bodies into
+a set of their own; here a body keeps the slot the API and the batch index it by, and
+the list is the awake set).
 
 Points ``points`` (C, POINT_F) float64 and ``point_ids`` (C, 3) int64 (body A, body B,
 feature), one row per contact point of the step, sorted by (A, B, feature):
@@ -56,7 +62,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import inline, kernel
+from ._jit import cut, inline, kernel
 
 MOVING, MOVABLE, STEP_INV_MASS, STEP_INV_MOMENT = 0, 1, 2, 3
 ACCEL_X, ACCEL_Y, ACCEL_W, ROLL_H = 4, 5, 6, 7
@@ -149,7 +155,7 @@ def row_sizes(bodies: int, points: int, pairs: int) -> tuple[int, int]:
     """Lengths of one float row and one int row."""
     colour_floats, colour_ints = colour_sizes(bodies, points)
     floats = bodies * (TERMS + SWEPT_F + STATE_F) + points * (POINT_F + MERGED_F) + colour_floats
-    ints = 4 * pairs + (bodies + 1) + 6 * points + 2 * bodies + colour_ints
+    ints = 4 * pairs + (bodies + 1) + 6 * points + 3 * bodies + colour_ints
     return floats, ints
 
 
@@ -187,6 +193,7 @@ class Scratch(NamedTuple):
     buckets: np.ndarray  # (N + 1,) the pairs' counting sort by first body
     parents: np.ndarray  # (N,) islands: union-find parents (sleep)
     members: np.ndarray  # (N,) islands: members in order (sleep)
+    moving: np.ndarray  # (N,) the slots of the bodies that move this step, in slot order
     # The coloured manifolds' arrays, cut only where a world is coloured (cutting them
     # into their seven arrays at every call cost a small world 0.3 us a step):
     colour_floats: np.ndarray  # (CON_F + LANE_F, M) see colouring.colour_arrays
@@ -195,39 +202,41 @@ class Scratch(NamedTuple):
 
 @kernel
 def views(floats: np.ndarray, ints: np.ndarray, bodies: int, points: int, pairs: int):
-    """Cut one scratch row into its arrays (``Scratch``)."""
-    at = 0
-    terms = floats[at : at + bodies * TERMS].reshape(bodies, TERMS)
-    at += bodies * TERMS
-    swept = floats[at : at + bodies * SWEPT_F].reshape(SWEPT_F, bodies)
+    """Cut one scratch row into its arrays (``Scratch``), each a borrowed view
+    (``_jit.cut``: a call cuts them all, and slices and reshapes cost it more than its
+    step's first stage)."""
+    terms = cut(floats, 0, bodies, TERMS)
+    at = bodies * TERMS
+    swept = cut(floats, at, SWEPT_F, bodies)
     at += bodies * SWEPT_F
-    states = floats[at : at + bodies * STATE_F].reshape(bodies, STATE_F)
+    states = cut(floats, at, bodies, STATE_F)
     at += bodies * STATE_F
-    point_rows = floats[at : at + points * POINT_F].reshape(points, POINT_F)
+    point_rows = cut(floats, at, points, POINT_F)
     at += points * POINT_F
-    merged = floats[at : at + points * MERGED_F].reshape(points, MERGED_F)
+    merged = cut(floats, at, points, MERGED_F)
     at += points * MERGED_F
     colour_floats, colour_ints = colour_sizes(bodies, points)
-    coloured_floats = floats[at : at + colour_floats].reshape(CON_F + LANE_F, -1)
-    at = 0
-    pair_rows = ints[at : at + 2 * pairs].reshape(pairs, 2)
+    coloured_floats = cut(floats, at, CON_F + LANE_F, colour_floats // (CON_F + LANE_F))
+    pair_rows = cut(ints, 0, pairs, 2)
+    at = 2 * pairs
+    sorted_pairs = cut(ints, at, pairs, 2)
     at += 2 * pairs
-    sorted_pairs = ints[at : at + 2 * pairs].reshape(pairs, 2)
-    at += 2 * pairs
-    buckets = ints[at : at + bodies + 1]
+    buckets = cut(ints, at, 1, bodies + 1)[0]
     at += bodies + 1
-    point_ids = ints[at : at + 3 * points].reshape(points, 3)
+    point_ids = cut(ints, at, points, 3)
     at += 3 * points
-    merged_ids = ints[at : at + 3 * points].reshape(points, 3)
+    merged_ids = cut(ints, at, points, 3)
     at += 3 * points
-    parents = ints[at : at + bodies]
+    parents = cut(ints, at, 1, bodies)[0]
     at += bodies
-    members = ints[at : at + bodies]
+    members = cut(ints, at, 1, bodies)[0]
     at += bodies
-    coloured_ints = ints[at : at + colour_ints]
+    moving = cut(ints, at, 1, bodies)[0]
+    at += bodies
+    coloured_ints = cut(ints, at, 1, colour_ints)[0]
     return Scratch(
         terms, swept, states, point_rows, merged, point_ids, merged_ids, pair_rows,
-        sorted_pairs, buckets, parents, members, coloured_floats, coloured_ints,
+        sorted_pairs, buckets, parents, members, moving, coloured_floats, coloured_ints,
     )  # fmt: skip
 
 
@@ -249,6 +258,7 @@ def part_shapes(bodies: int, points: int, pairs: int) -> Scratch:
         buckets=((bodies + 1,), i8),
         parents=((bodies,), i8),
         members=((bodies,), i8),
+        moving=((bodies,), i8),
         colour_floats=((CON_F + LANE_F, manifold_room(points)), f8),
         colour_ints=((colour_ints,), i8),
     )
@@ -261,5 +271,5 @@ def scratch_row(parts, j):
     return Scratch(
         parts[0][j], parts[1][j], parts[2][j], parts[3][j], parts[4][j], parts[5][j],
         parts[6][j], parts[7][j], parts[8][j], parts[9][j], parts[10][j], parts[11][j],
-        parts[12][j], parts[13][j],
+        parts[12][j], parts[13][j], parts[14][j],
     )  # fmt: skip
