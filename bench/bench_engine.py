@@ -320,6 +320,7 @@ def main(argv: list[str] | None = None) -> None:
     engine_rows.pool_varied_shots(plan, imp, rows)
     engine_rows.pyramids(plan, rows)
     engine_rows.rains(plan, rows)
+    engine_rows.settled_rain(plan, rows)
     engine_rows.large_pyramid(plan, rows)
     _print_results(plan, rows, imp, pm1)
     print(

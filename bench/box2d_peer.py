@@ -81,10 +81,11 @@ def version() -> str:
     return f"pyb2d3 {dist_version('pyb2d3')}"
 
 
-def _world(gravity: tuple[float, float]) -> pyb2d3.World:
-    """A single-threaded Box2D world with the default solver settings and sleeping off."""
+def _world(gravity: tuple[float, float], sleeping: bool = False) -> pyb2d3.World:
+    """A single-threaded Box2D world with the default solver settings and sleeping off
+    (or on, with Box2D's defaults: 0.5 s below 0.05 m/s)."""
     world = pyb2d3.World(gravity=gravity)  # no thread_pool: one thread
-    world.sleeping_enabled = False
+    world.sleeping_enabled = sleeping
     return world
 
 
@@ -183,24 +184,25 @@ def large_pyramid_box2d(steps: int | None = None) -> dict:
 
 
 # -- rain ------------------------------------------------------------------------------------
-def _rain_world(scene: Rain) -> tuple[pyb2d3.World, pyb2d3.Bodies]:
+def _rain_world(scene: Rain, sleeping: bool = False) -> tuple[pyb2d3.World, list]:
     """Build the rain scene in Box2D (ground: the scene's finite static box, top face at
-    y = 0); the falling bodies in scene order."""
-    world = _world(scene.gravity)
+    y = 0); the falling bodies in scene order (a ``pyb2d3.Bodies`` and the bodies)."""
+    world = _world(scene.gravity, sleeping)
     _add_static_box(world, scene.ground, scene.friction, scene.restitution)
     r, (w, h) = scene.circle_radius, scene.box_size
     mu, e = scene.friction, scene.restitution
     circle_def = _shape_def(scene.mass / (math.pi * r * r), mu, e)
     box_def = _shape_def(scene.mass / (w * h), mu, e)
     circle, polygon = pyb2d3.circle(radius=r), pyb2d3.box(w / 2, h / 2)
-    bodies = pyb2d3.Bodies()
+    bodies, each = pyb2d3.Bodies(), []
     for p, angle, is_circle in zip(scene.positions, scene.angles, scene.is_circle, strict=True):
         body = world.create_dynamic_body(
-            position=(float(p[0]), float(p[1])), rotation=float(angle), enable_sleep=False
+            position=(float(p[0]), float(p[1])), rotation=float(angle), enable_sleep=sleeping
         )
         body.create_shape(circle_def if is_circle else box_def, circle if is_circle else polygon)
         bodies.append(body.id)
-    return world, bodies
+        each.append(body)
+    return world, [bodies, each]
 
 
 def rain_box2d(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
@@ -209,7 +211,7 @@ def rain_box2d(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
     the bodies' centres at the end, m) and ``finite``."""
     scene = rain(count)
     validate(scene)
-    world, bodies = _rain_world(scene)
+    world, (bodies, _) = _rain_world(scene)
     _warm_up()
     step, dt = world.step, scene.dt
     for _ in range(settle_steps):
@@ -224,6 +226,23 @@ def rain_box2d(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
         "mean_y": float(pos[:, 1].mean()),
         "finite": bool(np.all(np.isfinite(pos))),
     }
+
+
+def settled_rain_box2d(count: int, steps: int = 120, settle_steps: int = 600) -> dict:
+    """The rain with sleeping on: ``settle_steps`` untimed steps (the piles come to rest
+    and fall asleep), then ``steps`` timed. Returns ``ms_per_step`` and ``awake`` (bodies
+    awake at the end)."""
+    scene = rain(count)
+    world, (_, each) = _rain_world(scene, sleeping=True)
+    _warm_up()
+    step, dt = world.step, scene.dt
+    for _ in range(settle_steps):
+        step(dt, SUBSTEPS)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        step(dt, SUBSTEPS)
+    seconds = time.perf_counter() - t0
+    return {"ms_per_step": 1000 * seconds / steps, "awake": sum(b.awake for b in each)}
 
 
 def main() -> None:

@@ -38,6 +38,7 @@ try:  # imported as part of the repo (``bench.engine_rows``) ...
         pool_energy_pymunk,
         pyramid_impulse2d,
         rain_impulse2d,
+        settled_rain_impulse2d,
     )
     from bench.report import fmt, ratio
     from bench.scenes import LATERAL_CREEP_M, PoolBreak, Rain, pool_cue_offsets
@@ -55,6 +56,7 @@ except ImportError:  # ... or run as a script, with bench/ on sys.path
         pool_energy_pymunk,
         pyramid_impulse2d,
         rain_impulse2d,
+        settled_rain_impulse2d,
     )
     from report import fmt, ratio
     from scenes import LATERAL_CREEP_M, PoolBreak, Rain, pool_cue_offsets
@@ -602,3 +604,35 @@ def rains(plan: Plan, rows: list[Row]) -> None:
             )
         )
         previous = (count, ri, rp)
+
+
+SETTLED_RAIN_STEPS = 600  # 10 s untimed: the piles come to rest and fall asleep
+
+
+def settled_rain(plan: Plan, rows: list[Row]) -> None:
+    """The largest rain with sleeping on in every engine (each with its defaults: asleep
+    after 0.5 s nearly still), timed after ``SETTLED_RAIN_STEPS`` untimed steps, when
+    nearly every body sleeps: what a world at rest costs, beside Box2D's solver sets and
+    Chipmunk's sleeping components."""
+    count, steps = plan.rain_counts[-1], plan.rain_scene.steps
+    _stage(f"rain {count} bodies at rest, sleeping on (each engine settles 10 s untimed)")
+    ri = settled_rain_impulse2d(count, steps, SETTLED_RAIN_STEPS)
+    rp = pymunk_peer.settled_rain_pymunk(count, steps, SETTLED_RAIN_STEPS)
+    rb = (
+        box2d_peer.settled_rain_box2d(count, steps, SETTLED_RAIN_STEPS)
+        if box2d_peer.AVAILABLE
+        else None
+    )
+    awake = f"{ri['awake']} / {rp['awake']}" + (f" / {rb['awake']}" if rb else "")
+    rows.append(
+        (
+            f"rain {count} at rest, sleeping on: ms/step",
+            "1",
+            fmt(ri["ms_per_step"]),
+            fmt(rp["ms_per_step"]),
+            ratio(ri["ms_per_step"], rp["ms_per_step"]),
+            *box2d_cells(ri["ms_per_step"], rb and rb["ms_per_step"]),
+            f"{steps} steps timed after {SETTLED_RAIN_STEPS} untimed; bodies awake at the end "
+            f"{awake} ({_who(rb)}); finite: {ri['finite']}",
+        )
+    )

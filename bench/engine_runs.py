@@ -490,10 +490,10 @@ def large_pyramid_impulse2d(steps: int | None = None, budget_s: float | None = N
 
 
 # -- rain ------------------------------------------------------------------------------------
-def _rain_world(scene: Rain) -> tuple[p2.World, list[int]]:
+def _rain_world(scene: Rain, sleeping: bool = RAIN_SLEEPING) -> tuple[p2.World, list[int]]:
     """The rain scene in impulse2d (ground: a plane at y = 0); returns the world and the
     ``bodies`` indices of the falling bodies in scene order."""
-    world = p2.World(gravity=scene.gravity, sleeping=RAIN_SLEEPING)  # default substeps
+    world = p2.World(gravity=scene.gravity, sleeping=sleeping)  # default substeps
     world.add(
         p2.Plane(
             normal=(0.0, 1.0),
@@ -557,4 +557,24 @@ def rain_impulse2d(
         "mean_y": float(pos[:, 1].mean()),
         "finite": bool(np.all(np.isfinite(pos))),
         "repeats_identical": all(np.array_equal(f, finals[0]) for f in finals),
+    }
+
+
+def settled_rain_impulse2d(count: int, steps: int = 120, settle_steps: int = 600) -> dict:
+    """The rain with sleeping on (``World`` defaults: 0.5 s below 0.05 m/s), as
+    ``box2d_peer.settled_rain_box2d``: ``ms_per_step`` after ``settle_steps`` untimed
+    steps, ``awake`` (bodies awake at the end) and ``finite``."""
+    world, bodies = _rain_world(rain(count), sleeping=True)
+    step, dt = world.step, rain(count).dt
+    for _ in _progress(range(settle_steps), settle_steps, f"impulse2d rain {count} settling"):
+        step(dt)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        step(dt)
+    seconds = time.perf_counter() - t0
+    objects = world.bodies
+    return {
+        "ms_per_step": 1000 * seconds / steps,
+        "awake": sum(bool(objects[i].awake) for i in bodies),
+        "finite": bool(np.all(np.isfinite(_positions(world, bodies)))),
     }

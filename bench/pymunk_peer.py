@@ -235,7 +235,7 @@ def pyramid_pymunk(
     }
 
 
-def _rain_space(scene: Rain) -> tuple[pymunk.Space, list[pymunk.Body]]:
+def _rain_space(scene: Rain, sleeping: bool = False) -> tuple[pymunk.Space, list[pymunk.Body]]:
     """Build the rain scene in pymunk; returns the space and its bodies in scene order.
 
     The ground is the scene's finite stand-in box (a static ``Poly``, top face at y = 0,
@@ -243,6 +243,8 @@ def _rain_space(scene: Rain) -> tuple[pymunk.Space, list[pymunk.Body]]:
     sqrt(mu) on each side (Chipmunk multiplies them), as for the pyramid.
     """
     space = pymunk.Space()  # iterations=10, default slop/bias, sleeping off
+    if sleeping:  # bodies idle for 0.5 s (Box2D's and impulse2d's default) fall asleep
+        space.sleep_time_threshold = 0.5
     space.gravity = scene.gravity
     mu = math.sqrt(scene.friction)
     e = math.sqrt(scene.restitution)
@@ -289,6 +291,22 @@ def rain_pymunk(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
         "mean_y": float(pos[:, 1].mean()),
         "finite": bool(np.all(np.isfinite(pos))),
     }
+
+
+def settled_rain_pymunk(count: int, steps: int = 120, settle_steps: int = 600) -> dict:
+    """The rain with sleeping on, as ``box2d_peer.settled_rain_box2d``: ``ms_per_step``
+    after ``settle_steps`` untimed steps, and ``awake`` (bodies awake at the end)."""
+    scene = rain(count)
+    space, bodies = _rain_space(scene, sleeping=True)
+    _warm_up()
+    step, dt = space.step, scene.dt
+    for _ in range(settle_steps):
+        step(dt)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        step(dt)
+    seconds = time.perf_counter() - t0
+    return {"ms_per_step": 1000 * seconds / steps, "awake": sum(not b.is_sleeping for b in bodies)}
 
 
 def _self_check(result: dict, scene: PoolBreak) -> None:
