@@ -205,6 +205,17 @@ def _rain_world(scene: Rain, sleeping: bool = False) -> tuple[pyb2d3.World, list
     return world, [bodies, each]
 
 
+def _rain_ms(world: pyb2d3.World, dt: float, steps: int, settle_steps: int) -> float:
+    """ms a step over ``steps`` steps of ``world`` after ``settle_steps`` untimed ones."""
+    _warm_up()
+    for _ in range(settle_steps):
+        world.step(dt, SUBSTEPS)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        world.step(dt, SUBSTEPS)
+    return 1000 * (time.perf_counter() - t0) / steps
+
+
 def rain_box2d(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
     """Time ``steps`` steps of the Box2D rain scene after ``settle_steps`` untimed ones, as
     :func:`pymunk_peer.rain_pymunk`. Returns ``ms_per_step``, ``mean_y`` (mean height of
@@ -212,17 +223,10 @@ def rain_box2d(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
     scene = rain(count)
     validate(scene)
     world, (bodies, _) = _rain_world(scene)
-    _warm_up()
-    step, dt = world.step, scene.dt
-    for _ in range(settle_steps):
-        step(dt, SUBSTEPS)
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        step(dt, SUBSTEPS)
-    seconds = time.perf_counter() - t0
+    ms = _rain_ms(world, scene.dt, steps, settle_steps)
     pos = _positions(bodies)
     return {
-        "ms_per_step": 1000 * seconds / steps,
+        "ms_per_step": ms,
         "mean_y": float(pos[:, 1].mean()),
         "finite": bool(np.all(np.isfinite(pos))),
     }
@@ -234,15 +238,8 @@ def settled_rain_box2d(count: int, steps: int = 120, settle_steps: int = 600) ->
     awake at the end)."""
     scene = rain(count)
     world, (_, each) = _rain_world(scene, sleeping=True)
-    _warm_up()
-    step, dt = world.step, scene.dt
-    for _ in range(settle_steps):
-        step(dt, SUBSTEPS)
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        step(dt, SUBSTEPS)
-    seconds = time.perf_counter() - t0
-    return {"ms_per_step": 1000 * seconds / steps, "awake": sum(b.awake for b in each)}
+    ms = _rain_ms(world, scene.dt, steps, settle_steps)
+    return {"ms_per_step": ms, "awake": sum(b.awake for b in each)}
 
 
 def main() -> None:

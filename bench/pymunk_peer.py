@@ -268,6 +268,17 @@ def _rain_space(scene: Rain, sleeping: bool = False) -> tuple[pymunk.Space, list
     return space, bodies
 
 
+def _rain_ms(space: pymunk.Space, dt: float, steps: int, settle_steps: int) -> float:
+    """ms a step over ``steps`` steps of ``space`` after ``settle_steps`` untimed ones."""
+    _warm_up()
+    for _ in range(settle_steps):
+        space.step(dt)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        space.step(dt)
+    return 1000 * (time.perf_counter() - t0) / steps
+
+
 def rain_pymunk(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
     """Time ``steps`` steps of the pymunk rain scene after ``settle_steps`` untimed ones.
 
@@ -277,17 +288,10 @@ def rain_pymunk(count: int, steps: int = 120, settle_steps: int = 60) -> dict:
     scene = rain(count)
     validate(scene)
     space, bodies = _rain_space(scene)
-    _warm_up()
-    step, dt = space.step, scene.dt
-    for _ in range(settle_steps):
-        step(dt)
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        step(dt)
-    seconds = time.perf_counter() - t0
+    ms = _rain_ms(space, scene.dt, steps, settle_steps)
     pos = _positions(bodies)
     return {
-        "ms_per_step": 1000 * seconds / steps,
+        "ms_per_step": ms,
         "mean_y": float(pos[:, 1].mean()),
         "finite": bool(np.all(np.isfinite(pos))),
     }
@@ -298,15 +302,8 @@ def settled_rain_pymunk(count: int, steps: int = 120, settle_steps: int = 600) -
     after ``settle_steps`` untimed steps, and ``awake`` (bodies awake at the end)."""
     scene = rain(count)
     space, bodies = _rain_space(scene, sleeping=True)
-    _warm_up()
-    step, dt = space.step, scene.dt
-    for _ in range(settle_steps):
-        step(dt)
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        step(dt)
-    seconds = time.perf_counter() - t0
-    return {"ms_per_step": 1000 * seconds / steps, "awake": sum(not b.is_sleeping for b in bodies)}
+    ms = _rain_ms(space, scene.dt, steps, settle_steps)
+    return {"ms_per_step": ms, "awake": sum(not b.is_sleeping for b in bodies)}
 
 
 def _self_check(result: dict, scene: PoolBreak) -> None:
