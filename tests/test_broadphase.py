@@ -114,6 +114,21 @@ def test_pairs_are_exactly_the_overlapping_boxes_that_can_touch(seed):
     assert np.all(np.diff(keys) > 0)
 
 
+@pytest.mark.parametrize("awake", [0, 1, 40, -1])
+def test_a_resting_scene_pairs_only_around_what_moves(awake):
+    """Everything asleep but one body (or none): the sweep passes over the boxes that do
+    not move unless a moving box starts within their reach, and still finds exactly the
+    pairs a test of every pair finds (those with the moving body, and none else)."""
+    world = random_scene(2)
+    world.stop(None)
+    movable = [b for b in world.bodies if not isinstance(b, p2.Plane) and not b.fixed]
+    chosen = [b for b in movable if b.enabled][awake]
+    chosen.wake()
+    pairs = {tuple(p) for p in candidate_pairs(world).tolist()}
+    assert pairs == brute_force(world) and pairs
+    assert all(chosen.slot in pair for pair in pairs)
+
+
 def test_pairs_do_not_depend_on_the_remembered_order():
     """The sweep keeps its sorted order between steps; any order gives the same pairs in
     the same order (so a restored world solves its contacts in the same order)."""

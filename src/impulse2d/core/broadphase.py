@@ -92,11 +92,20 @@ def sweep(body_i, shapes, w, terms, swept, near, pairs) -> int:
     lefts, bottoms, tops = swept[SWEPT_LEFT], swept[SWEPT_BOTTOM], swept[SWEPT_TOP]
     flags = swept[SWEPT_FLAGS]
     count = 0
-    for p in range(n):
+    # Backwards, so that the first moving box after this one is known (``ahead``): a box
+    # that does not move pairs only with moving ones, and when none starts before its
+    # right edge it has no pair and is passed over (a resting pile's boxes, nearly all).
+    # The order the pairs are found in does not matter: they are sorted after.
+    ahead = n
+    for p in range(n - 1, -1, -1):
         if lefts[p] == np.inf:
-            break  # the rest are not in the broadphase
+            continue  # not in the broadphase (they sort last)
         right, bottom, top = swept[SWEPT_RIGHT, p], bottoms[p], tops[p]
         moving_a, dynamic_a = flags[p] == 1.0 or flags[p] == 3.0, flags[p] >= 2.0
+        if moving_a:
+            ahead = p
+        elif ahead == n or lefts[ahead] >= right:
+            continue
         # The boxes that start before this one's right edge end at the first that does
         # not (bisection); of those, the ones that overlap along y are listed in ``near``
         # without a branch (each is written, the count moves on only past an overlap),
