@@ -564,8 +564,9 @@ def settled_rain_impulse2d(count: int, steps: int = 120, settle_steps: int = 600
     """The rain with sleeping on (``World`` defaults: 0.5 s below 0.05 m/s), as
     ``box2d_peer.settled_rain_box2d``: ``ms_per_step`` after ``settle_steps`` untimed
     steps, ``awake`` (bodies awake at the end) and ``finite``."""
-    world, bodies = _rain_world(rain(count), sleeping=True)
-    step, dt = world.step, rain(count).dt
+    scene = rain(count)
+    world, bodies = _rain_world(scene, sleeping=True)
+    step, dt = world.step, scene.dt
     for _ in _progress(range(settle_steps), settle_steps, f"impulse2d rain {count} settling"):
         step(dt)
     t0 = time.perf_counter()
