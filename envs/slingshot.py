@@ -89,6 +89,7 @@ class SlingshotGame(ShotGame):
         template, *self._template_bodies = self._build(
             1, "cpu"
         )  # resets copy its state from the host
+        self._parked = template.snapshot()  # every slot parked: where each build starts
         slots = MAX_PIGS + MAX_BLOCKS
         low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
         super().__init__(
@@ -200,33 +201,30 @@ class SlingshotGame(ShotGame):
     def _build_level(self, level: _levels.Level) -> tuple:
         """The template set up for ``level``: its snapshot, and the per-slot max health,
         in-level flags and materials. A function of the level alone."""
-        bird, pigs, blocks = self._template_bodies
+        _, pigs, blocks = self._template_bodies
         slots = MAX_PIGS + MAX_BLOCKS
         max_health, in_level = np.ones(slots), np.zeros(slots, dtype=bool)
         material = np.zeros(slots, np.int64)
-        _park(bird)
-        for i, pig in enumerate(pigs):
-            if i < len(level.pigs):
-                pig.position = level.pigs[i]
-                pig.enabled = True
-                pig.health = max_health[i] = PIG_HEALTH
-                in_level[i] = True
-            else:
-                _park(pig)
-        for i, block in enumerate(blocks):
-            if i < len(level.blocks):
-                x, y, width, height, kind_index = level.blocks[i]
-                kind = MATERIALS[kind_index]
-                block.width, block.height = width, height
-                block.mass = kind.density * width * height
-                block.friction, block.restitution = kind.friction, kind.restitution
-                block.position = (x, y)
-                block.enabled = True
-                k = MAX_PIGS + i
-                block.health = max_health[k] = kind.health
-                in_level[k], material[k] = True, kind_index
-            else:
-                _park(block)
+        # Every build starts from every slot parked as _build left them, so a build is a
+        # function of the level alone, down to the sizes and masses an unused slot holds;
+        # and only the level's own bodies are written (each write costs microseconds).
+        self.template.restore(self._parked)
+        for i, pig in enumerate(pigs[: len(level.pigs)]):
+            pig.position = level.pigs[i]
+            pig.enabled = True
+            pig.health = max_health[i] = PIG_HEALTH
+            in_level[i] = True
+        for i, block in enumerate(blocks[: len(level.blocks)]):
+            x, y, width, height, kind_index = level.blocks[i]
+            kind = MATERIALS[kind_index]
+            block.width, block.height = width, height
+            block.mass = kind.density * width * height
+            block.friction, block.restitution = kind.friction, kind.restitution
+            block.position = (x, y)
+            block.enabled = True
+            k = MAX_PIGS + i
+            block.health = max_health[k] = kind.health
+            in_level[k], material[k] = True, kind_index
         self.template.stop()  # everything asleep: the level stands as built until hit
         return self.template.snapshot(), max_health, in_level, material
 

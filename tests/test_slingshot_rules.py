@@ -412,3 +412,17 @@ def test_kept_levels_play_bitwise_as_levels_built_afresh():
     fresh, _ = play(keep=False)
     assert count == 3  # 24 episodes, three levels, each built once
     assert all(np.array_equal(a, b) for a, b in zip(kept, fresh, strict=True))
+
+
+def test_a_build_is_the_same_state_whatever_was_built_before():
+    """Every array of a level's build (the unused, parked slots' sizes, masses and health
+    too) is the same after any other build: a build starts from every slot parked."""
+    big = _levels.HANDMADE["twin-towers"]()
+    block = (8.0, SQUARE / 2 + _levels.GAP, SQUARE, SQUARE, 0)
+    small = Level("one block", blocks=[block], pigs=[(9.5, ON_GROUND)])
+    alone = SlingshotGame(1)._build_level(small)[0].state
+    game = SlingshotGame(1)
+    game._build_level(big)
+    after = game._build_level(small)[0].state
+    for name in ("body", "body_i", "contact", "contact_i", "world_i", "time"):
+        assert np.array_equal(getattr(alone, name), getattr(after, name)), name

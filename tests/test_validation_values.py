@@ -470,3 +470,54 @@ def test_rejected_mixing_or_bad_world_does_not_break_a_good_world():
         p2.World(restitution_mixing="bogus")
     world.step(1.0 / 60.0)
     assert world.steps == 1 and a.world is world and b.world is world
+
+
+# -- the checks' two paths -------------------------------------------------------------------------
+def _outcome(check, *args):
+    """What a check does with ``args``: its return value, or its error's message."""
+    try:
+        return "ok", check(*args)
+    except ValueError as error:
+        return "refused", str(error)
+
+
+_ENTRY = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1e-300, -1.0, 100.0, 100.0000001, 1e308]),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(1, 4), st.booleans(), st.data())
+def test_small_arrays_are_checked_as_the_numpy_path_checks_them(worlds, pairs, data):
+    """A check of a few entries runs in plain Python (numpy's reductions cost more than
+    the test); it returns or refuses, with the same message, exactly as the numpy path."""
+    from impulse2d import _checks
+
+    shape = (worlds, 2) if pairs else (worlds,)
+    count = worlds * (2 if pairs else 1)
+    values = np.array(data.draw(st.lists(_ENTRY, min_size=count, max_size=count)))
+    values = values.reshape(shape)
+    cases = [
+        (_checks.real_array, "x", values),
+        (_checks.real_array, "x", values, None, False),
+        (_checks.batched, "x", values, worlds, shape[1:]),
+        (_checks.batched_rule, "x", np.nan_to_num(values), "> 0"),
+        (_checks.batched_rule, "x", np.nan_to_num(values), ">= 0"),
+        (_checks.within, "x", values, 0.0, 100.0, " m"),
+    ]
+    if pairs:
+        cases.append((_checks.magnitude_at_most, "x", values, 100.0, " m/s"))
+    for check, *args in cases:
+        with np.errstate(over="ignore"):  # hypot of 1e308s
+            fast = _outcome(check, *args)
+            few, _checks.FEW_ENTRIES = _checks.FEW_ENTRIES, -1  # every array through numpy
+            try:
+                slow = _outcome(check, *args)
+            finally:
+                _checks.FEW_ENTRIES = few
+        assert fast[0] == slow[0], (check.__name__, fast, slow)
+        if fast[0] == "refused":
+            assert fast[1] == slow[1]
+        elif isinstance(fast[1], np.ndarray):
+            assert np.array_equal(fast[1], slow[1], equal_nan=True)

@@ -114,6 +114,8 @@ class Column:
         moves: bool = False,
         doc: str = "",
     ) -> None:
+        if list(columns) != list(range(columns[0], columns[0] + len(columns))):
+            raise ValueError(f"a Column's columns must be adjacent, got {columns}")
         self.columns, self.table, self.rule, self.limit = list(columns), table, rule, limit
         self.scale, self.finite, self.rebuild, self.moves = scale, finite, rebuild, moves
         self.__doc__ = doc

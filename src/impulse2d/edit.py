@@ -89,19 +89,32 @@ def write_body(
     """Write ``values`` (B, k) into a body's ``columns`` and wake it where they changed
     (``moves``: it was teleported or resized, so what rested on it wakes too)."""
     body, motion = state.body, int(layout.motion[slot])
-    if motion == FIXED and set(columns) <= set(VELOCITY_COLUMNS) and np.any(values != 0.0):
+    velocity_only = set(columns) <= set(VELOCITY_COLUMNS)
+    if motion == FIXED and velocity_only and np.any(values != 0.0):
         name = "angular_velocity" if columns == [OMEGA] else "velocity"
         raise ValueError(f"{name} of a fixed body must be 0; use kinematic=True")
-    changed = np.flatnonzero((body[:, slot, columns] != values).any(axis=1))
-    body[:, slot, columns] = values
+    # A column or a 2-vector is a run of adjacent columns (``Column`` makes sure): a
+    # slice is a view, written through, where a list would copy out and scatter back.
+    rows = body[:, slot, columns[0] : columns[-1] + 1]
+    changed = _changed_worlds(rows, values)
+    rows[...] = values
     refresh_derived(state, slot, columns)
     if changed.size == 0:
         return
-    if motion == KINEMATIC and set(columns) <= set(VELOCITY_COLUMNS):
+    if motion == KINEMATIC and velocity_only:
         # A kinematic body is awake while it moves.
         moving = (body[changed, slot, VX : OMEGA + 1] != 0.0).any(axis=1)
         state.body_i[changed, slot, AWAKE] = moving & (state.body_i[changed, slot, ENABLED] == 1)
     wake(state, layout, changed, slot, neighbours=moves)
+
+
+def _changed_worlds(rows: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """The worlds (indices) where ``values`` (B, k) differ from ``rows`` (B, k); a small
+    batch compared in plain Python (numpy's reductions cost more than the comparison)."""
+    if values.size <= _checks.FEW_ENTRIES:
+        old, new = rows.tolist(), values.tolist()
+        return np.array([w for w in range(len(old)) if old[w] != new[w]], np.int64)
+    return np.flatnonzero((rows != values).any(axis=1))
 
 
 def write_rows(
