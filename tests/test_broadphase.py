@@ -100,11 +100,22 @@ def random_scene(seed: int, count: int = 150) -> p2.World:
     return world
 
 
+# Scenes on either side of broadphase.SMALL_WORLD slots: swept in place, or in sweep order.
+SIZES = pytest.mark.parametrize("count", [40, 150], ids=["small world", "large world"])
+
+
+def _slots_check(world: p2.World, count: int) -> None:
+    small = world.state.body.shape[1] <= broadphase.SMALL_WORLD
+    assert small == (count == 40)
+
+
+@SIZES
 @pytest.mark.parametrize("seed", range(6))
-def test_pairs_are_exactly_the_overlapping_boxes_that_can_touch(seed):
+def test_pairs_are_exactly_the_overlapping_boxes_that_can_touch(seed, count):
     """The sweep finds exactly the pairs a test of every pair finds, once each, A and B
     ordered by kind, and in canonical order."""
-    world = random_scene(seed)
+    world = random_scene(seed, count)
+    _slots_check(world, count)
     pairs = candidate_pairs(world)
     assert {tuple(p) for p in pairs.tolist()} == brute_force(world)
     assert len({tuple(p) for p in pairs.tolist()}) == len(pairs)
@@ -114,12 +125,14 @@ def test_pairs_are_exactly_the_overlapping_boxes_that_can_touch(seed):
     assert np.all(np.diff(keys) > 0)
 
 
-@pytest.mark.parametrize("awake", [0, 1, 40, -1])
-def test_a_resting_scene_pairs_only_around_what_moves(awake):
+@SIZES
+@pytest.mark.parametrize("awake", [0, 1, 20, -2])
+def test_a_resting_scene_pairs_only_around_what_moves(awake, count):
     """Everything asleep but one body (or none): the sweep passes over the boxes that do
     not move unless a moving box starts within their reach, and still finds exactly the
     pairs a test of every pair finds (those with the moving body, and none else)."""
-    world = random_scene(2)
+    world = random_scene(2, count)
+    _slots_check(world, count)
     world.stop(None)
     movable = [b for b in world.bodies if not isinstance(b, p2.Plane) and not b.fixed]
     chosen = [b for b in movable if b.enabled][awake]
@@ -129,10 +142,12 @@ def test_a_resting_scene_pairs_only_around_what_moves(awake):
     assert all(chosen.slot in pair for pair in pairs)
 
 
-def test_pairs_do_not_depend_on_the_remembered_order():
+@SIZES
+def test_pairs_do_not_depend_on_the_remembered_order(count):
     """The sweep keeps its sorted order between steps; any order gives the same pairs in
     the same order (so a restored world solves its contacts in the same order)."""
-    world = random_scene(1)
+    world = random_scene(1, count)
+    _slots_check(world, count)
     reference = candidate_pairs(world)
     rng = np.random.default_rng(0)
     for _ in range(5):

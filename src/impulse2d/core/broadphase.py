@@ -69,6 +69,34 @@ def add_pair(pairs, count, a, b, shapes) -> int:
     return count + 1
 
 
+# A world of at most this many slots is swept in place (``sweep_small``): the copy into
+# sweep order and the bisections pay off only when a box overlaps many along x.
+SMALL_WORLD = 64
+
+
+@inline
+def sweep_small(shapes, terms, order, pairs) -> int:
+    """The plain sweep, reading the boxes where they are: for each box in left-edge
+    order, the boxes after it up to the first that starts past its right edge, paired
+    where they overlap along y too, one of the two moves and one is dynamic."""
+    n, count = order.size, 0
+    for p in range(n):
+        i = order[p]
+        right = terms[i, RIGHT]
+        if terms[i, LEFT] == np.inf:
+            break  # not in the broadphase (they sort last)
+        moving_i, dynamic_i = terms[i, MOVING] == 1.0, shapes[i, 1] == DYNAMIC
+        for q in range(p + 1, n):
+            j = order[q]
+            if terms[j, LEFT] >= right:
+                break
+            if terms[j, BOTTOM] < terms[i, TOP] and terms[i, BOTTOM] < terms[j, TOP]:
+                moving = moving_i or terms[j, MOVING] == 1.0
+                if moving and (dynamic_i or shapes[j, 1] == DYNAMIC):
+                    count = add_pair(pairs, count, i, j, shapes)
+    return count
+
+
 @kernel
 def sweep(body_i, shapes, w, terms, swept, near, pairs) -> int:
     """Sort and sweep the world's circles and boxes; returns the number of pairs.
@@ -83,6 +111,8 @@ def sweep(body_i, shapes, w, terms, swept, near, pairs) -> int:
     order = body_i[w, :, SAP_ORDER]
     sort_by_left_edge(order, terms)
     n = order.size
+    if n <= SMALL_WORLD:
+        return sweep_small(shapes, terms, order, pairs)
     for p in range(n):
         i = order[p]
         swept[SWEPT_LEFT, p], swept[SWEPT_RIGHT, p] = terms[i, LEFT], terms[i, RIGHT]
