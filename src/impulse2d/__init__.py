@@ -38,7 +38,7 @@ __all__ = [
     "Spring",
     "World",
 ]
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 _compile_notice.install()
 
