@@ -101,8 +101,8 @@ def one_torch_thread() -> None:
 def torch_thread_callback(threads: int = 1) -> Any:
     """An SB3 callback that keeps torch on ``threads`` threads (default one) after every
     env step, so that the policy's forward passes and the updates run as on any machine.
-    (``agents.train --torch-threads 2`` is one of the rounding variants of the README's
-    reproducibility check.)"""
+    (``agents.train --torch-threads 2`` is one of the rounding variants of the
+    reproducibility check in docs/training.md.)"""
     from stable_baselines3.common.callbacks import BaseCallback
 
     class HoldTorchThreads(BaseCallback):

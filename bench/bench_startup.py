@@ -29,6 +29,15 @@ which needs no compiling.
     python bench/bench_startup.py             # about 12 minutes on 2 cores: 10 cold compiles
     python bench/bench_startup.py --cases engine --repeats 1
     python bench/bench_startup.py --top 40    # more rows of the per-kernel table
+    python bench/bench_startup.py --wheel dist/impulse2d-0.3.0-py3-none-any.whl
+
+``--wheel`` installs a built wheel (``python -m impulse2d.compile --ship`` before
+``python -m build``, as CI does) with the games' extra into a fresh venv and runs the
+cases there, from an empty folder: what a user who ran ``pip install`` waits. Its "cold"
+runs find only the wheel's portable kernels (``impulse2d.core._shipped``); with
+``--no-shipped`` they compile, as an install without them does. The main command needs
+the clone (and the ``rl`` extra), so a wheel's run leaves it out. pymunk's first step is
+timed in this interpreter (the dev venv's pymunk).
 """
 
 from __future__ import annotations
@@ -39,6 +48,7 @@ import os
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 from typing import Any
 
 _Times = list[tuple[float, float]]  # (wall, cpu) seconds of each run
@@ -141,15 +151,22 @@ print(json.dumps({"import": time.perf_counter() - t0, "first step": time.perf_co
 """
 
 
+# Where the runs happen: this interpreter on the clone (the default), or a fresh venv
+# with a built wheel installed (``--wheel``), run from an empty folder.
+_PYTHON = {"python": sys.executable, "cwd": os.getcwd(), "path": os.getcwd(), "env": {}}
+
+
 def _run(code: str, cache: str | None) -> tuple[dict[str, Any], list[str]]:
     """Run ``code`` in a fresh interpreter (numba's cache in ``cache``); its times and
     the notice lines it printed."""
-    env = dict(os.environ, PYTHONPATH=os.getcwd())
-    for name in ("NUMBA_DISABLE_JIT", "IMPULSE2D_QUIET", "IMPULSE2D_COMPILE_RUN"):
+    env = dict(os.environ, **_PYTHON["env"])
+    for name in ("NUMBA_DISABLE_JIT", "IMPULSE2D_QUIET", "IMPULSE2D_COMPILE_RUN", "PYTHONPATH"):
         env.pop(name, None)  # a fresh run of its own, which may speak
+    if _PYTHON["path"]:
+        env["PYTHONPATH"] = _PYTHON["path"]
     if cache is not None:
         env["NUMBA_CACHE_DIR"] = cache
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+    out = subprocess.run([_PYTHON["python"], "-c", code], env=env, check=True, cwd=_PYTHON["cwd"],
                          capture_output=True, text=True)  # fmt: skip
     notices = [line for line in out.stderr.splitlines() if line.startswith("impulse2d:")]
     return json.loads(out.stdout.strip().splitlines()[-1]), notices
@@ -165,7 +182,17 @@ def main(argv: list[str] | None = None) -> None:
     choices = [*_CASES, "main command"]
     parser.add_argument("--cases", nargs="+", choices=choices, default=choices)
     parser.add_argument("--top", type=int, default=20, help="rows of the per-kernel table")
+    parser.add_argument("--wheel", help="a built wheel: run in a fresh venv with it installed")
+    parser.add_argument(
+        "--no-shipped", action="store_true",
+        help="switch the wheel's portable kernels off (IMPULSE2D_SHIPPED_KERNELS=0)",
+    )  # fmt: skip
     args = parser.parse_args(argv)
+    if args.wheel:
+        _install(args.wheel)
+        args.cases = [case for case in args.cases if case != "main command"]
+    if args.no_shipped:
+        _PYTHON["env"]["IMPULSE2D_SHIPPED_KERNELS"] = "0"
     kernels: dict[str, dict[str, float]] = {}
     table: dict[str, list[tuple[str, _Times, _Times]]] = {}
     notices: dict[str, list[str]] = {}
@@ -198,7 +225,10 @@ def main(argv: list[str] | None = None) -> None:
             for key in cold[0]["wall"]
         ]
     try:
+        where = dict(_PYTHON)  # pymunk in this interpreter, the wheel's venv has none
+        _PYTHON.update(python=sys.executable, cwd=os.getcwd(), path=os.getcwd(), env={})
         peer, _ = _run(_PYMUNK, None)
+        _PYTHON.update(where)
     except subprocess.CalledProcessError:
         peer = {}
     print(f"seconds since the script started, wall (cpu), {args.repeats} runs each")
@@ -208,6 +238,8 @@ def main(argv: list[str] | None = None) -> None:
         for key, cold_times, cached_times in rows:
             other = f"{peer[key]:7.2f}" if case == "engine" and key in peer else f"{'-':>7s}"
             print(f"  {key:32s} {_list(cold_times):>26s} {_list(cached_times):>24s} {other}")
+    if "first step" in peer:
+        print(f"pymunk, import to the first step: {peer['first step']:.2f} s")
     _print_kernels(kernels, args.top)
     print("what the first cold run of each case printed on stderr:")
     for case, said in notices.items():
@@ -217,6 +249,19 @@ def main(argv: list[str] | None = None) -> None:
         first = max(wall for wall, _ in dict((k, c) for k, _, c in table["engine"])["first step"])
         print(f"target: cached import + world + first step under 3 s: {first:.2f} s, "
               f"{'ok' if first < 3.0 else 'MISS'}")  # fmt: skip
+
+
+def _install(wheel: str) -> None:
+    """A fresh venv with ``wheel`` and the games' extra installed, as a new user's; the
+    runs then use it, from an empty folder, with nothing of the clone on the path."""
+    folder = Path(tempfile.mkdtemp(prefix="impulse2d-wheel-"))
+    print(f"... installing {Path(wheel).name}[envs] into a fresh venv", file=sys.stderr)
+    subprocess.run([sys.executable, "-m", "venv", str(folder / "venv")], check=True)
+    python = str(folder / "venv" / "bin" / "python")
+    subprocess.run([python, "-m", "pip", "install", "--quiet", f"{Path(wheel).resolve()}[envs]"],
+                   check=True)  # fmt: skip
+    (folder / "run").mkdir()
+    _PYTHON.update(python=python, cwd=str(folder / "run"), path="")
 
 
 def _print_kernels(kernels: dict[str, dict[str, float]], top: int) -> None:

@@ -1,4 +1,5 @@
-"""Make the README's animations of the two games played by their scripted baselines.
+"""Make the animations of the two games played by their scripted baselines (the README's
+and the games' pages in docs/envs/).
 
 ``python docs/env_gifs.py`` (needs the ``demo`` and ``envs`` extras) writes
 ``docs/pool2d-ghost-ball.gif`` (Pool2D-v0, the 15-ball rack, the first shots of the

@@ -13,8 +13,9 @@ from typing import Any
 
 IDS = ("Pool2D-v0", "Slingshot2D-v0")
 # The learnable variants, for tools that take only an id (RL Zoo, CleanRL, TorchRL): the
-# README's first pool task (one object ball at a random spot, five shots an episode) and
-# the hand-made slingshot levels. Each is its base game with these keyword arguments.
+# first pool task of docs/getting-started.md (one object ball at a random spot, five
+# shots an episode) and the hand-made slingshot levels. Each is its base game with these
+# keyword arguments.
 VARIANTS = {
     "Pool2DOneBall-v0": ("Pool2D-v0", {"num_balls": 1, "layout": "random"}, 5),
     "Slingshot2DHandmade-v0": ("Slingshot2D-v0", {"level": "handmade"}, 10),

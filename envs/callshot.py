@@ -104,7 +104,7 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def pool_shots(cue: np.ndarray, ball: np.ndarray) -> dict[str, np.ndarray]:
     """The ghost-ball shot into each pocket, for cue balls and object balls ``(n, 2)``
-    (m). For an object ball at ``b``, a pocket at ``q`` and the cue ball at ``c``:
+    (m). For an object ball at ``b``, a pocket at ``q`` and the cue ball at ``c``::
 
         u_bp = (q - b) / |q - b|         the object ball's path to the pocket
         g = b - 2 r u_bp                 where the cue ball must be at contact

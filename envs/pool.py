@@ -496,7 +496,7 @@ class Pool2DEnv(ShotEnv):
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
     * `device`: `"cpu"`, or `"cuda"` to play every table's shot in one GPU launch (the
-      `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
+      `gpu` extra and an NVIDIA GPU; see the docs' "On a GPU", `docs/gpu.md`).
     * `obs_type`: `"state"` (the vector above) or `"pixels"`: the table seen from above,
       `pixel_size` x `pixel_size` RGB uint8 (16 to 1024, default 84): cloth, cushions
       and pockets, each ball in its colour (a potted ball gone), drawn for every table

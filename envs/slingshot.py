@@ -563,7 +563,7 @@ class Slingshot2DEnv(ShotEnv):
     * `threads` (vector env): threads the batch is stepped on; default every core. The
       results do not depend on it.
     * `device`: `"cpu"`, or `"cuda"` to play every world's launch in one GPU launch (the
-      `gpu` extra and an NVIDIA GPU; see the README's "On a GPU").
+      `gpu` extra and an NVIDIA GPU; see the docs' "On a GPU", `docs/gpu.md`).
     * `obs_type`: `"state"` (the vector above) or `"pixels"`: the level seen from the
       side, `pixel_size` x `pixel_size` RGB uint8 (16 to 1024, default 84): sky, ground
       and sling, the bird red, pigs green, blocks in their material's colour (darker as

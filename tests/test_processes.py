@@ -152,7 +152,7 @@ _SUBPROC = (
 
 
 def test_workers_that_never_imported_impulse2d_take_the_module_qualified_id():
-    """What the README tells users of ``SubprocVecEnv`` from ``python -c`` or a notebook:
+    """What docs/envs/index.md tells users of ``SubprocVecEnv`` from ``python -c`` or a notebook:
     its forkserver workers never import impulse2d, so the plain id is unknown there, and
     ``impulse2d:Pool2D-v0`` works."""
     plain = _run_python(_SUBPROC.format(id="Pool2D-v0"))

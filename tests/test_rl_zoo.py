@@ -1,5 +1,5 @@
 """RL Baselines3 Zoo trains and evaluates the call-shot tasks from their ids and the
-project's hyperparameter file, as the README's command does (small budgets through the
+project's hyperparameter file, as the command of docs/training.md does (small budgets through the
 Zoo's own ``-n`` and ``-params``)."""
 
 from __future__ import annotations

@@ -319,7 +319,7 @@ def test_off_centre_hit_spins_the_box_by_r_cross_j(e, offset):
 def test_elastic_bounces_keep_their_energy(drop):
     """A ball (r = 0.5 m) dropped from centre height ``drop`` on the ground, restitution 1:
     at each of its first five apexes the energy above the resting level, E - m g r, is
-    within 1% of m g (drop - r) (the README claims 0.5%). Read at the apex, where the
+    within 1% of m g (drop - r) (docs/design.md claims 0.06 %). Read at the apex, where the
     integrator's half-substep velocity lag costs under 0.05%."""
     world = p2.World()
     ball = world.add(p2.Circle(position=(0.0, drop), radius=0.5, restitution=1.0))

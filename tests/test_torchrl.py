@@ -1,6 +1,6 @@
 """TorchRL over the envs, as its users wrap them: ``GymEnv`` on an id and ``GymWrapper``
 on the batched vector env (TorchRL takes DISABLED, its preferred mode, or SAME_STEP
-autoreset, as the README says)."""
+autoreset, as docs/envs/index.md says)."""
 
 from __future__ import annotations
 

@@ -2,10 +2,13 @@
 
 numba compiles a kernel the first time it is called, unless its cache has it; the cache
 is written next to the sources (or under ``NUMBA_CACHE_DIR``) and kept until the kernel
-modules change. So the first step after installing or updating impulse2d waits while
-the step kernel compiles, about 25 s on two cores, and every later run loads them in
-well under a second (``python -m impulse2d.compile`` fills the cache ahead, for images,
-CI and cluster nodes). So that nobody takes that wait for a hang, the first run says
+modules change. An installed wheel carries the kernels compiled for portable x86-64
+targets and loads them instead (``core._shipped``). Elsewhere (a clone, an sdist,
+another numba or Python than the wheel was built with, a CPU no shipped target fits) the
+first step after installing or updating impulse2d waits while the step kernel compiles,
+about 25 s on two cores, and every later run loads them in well under a second
+(``python -m impulse2d.compile`` fills the cache ahead, for images, CI and cluster
+nodes). So that nobody takes that wait for a hang, the first run says
 what it is doing, on stderr::
 
     impulse2d: compiling the physics kernels (first run after installing or updating;
@@ -63,18 +66,17 @@ def _name(dispatcher: Any) -> tuple[str, str]:
 
 
 def core_compiled() -> bool:
-    """Whether the stages of the step are compiled here or in numba's cache for this
-    machine and these sources (then a step kernel takes about ANOTHER_SECONDS)."""
+    """Whether the stages of the step are compiled here, or in numba's cache or the
+    shipped portable kernels for this machine and these sources (then a step kernel takes
+    about ANOTHER_SECONDS)."""
     try:
         import importlib
 
         core = getattr(importlib.import_module(_CORE[0]), _CORE[1])
         if core.overloads:
             return True
-        cache = core._cache  # numba's own cache of this dispatcher (private, hence try)
-        codegen = core.targetctx.codegen()
-        index = cache._cache_file._load_index()  # {} when missing or stale
-        return any(cache._index_key(key[0], codegen) == key for key in index)
+        # numba's cache of this dispatcher (private, hence try): _shipped.KernelCache
+        return core._cache.holds_any(core.targetctx.codegen())
     except Exception:  # another numba: assume the long compile
         return False
 

@@ -61,6 +61,8 @@ from numba.core import cgutils, errors, types
 from numba.extending import intrinsic
 from numba.np.arrayobj import populate_array
 
+from ._shipped import portable
+
 F = TypeVar("F", bound=Callable[..., Any])
 
 JIT_DISABLED = bool(numba.config.DISABLE_JIT)
@@ -103,12 +105,17 @@ def choose_cache_dir(package: Path = _PACKAGE) -> str | None:
 CACHE_DIR = choose_cache_dir()
 
 
+# Modules of the core that no kernel is compiled from: how the cache finds kernels.
+_NOT_COMPILED = frozenset({"_shipped.py"})
+
+
 def kernel_sources_digest(package: Path) -> str:
     """SHA-256 of the modules kernels are compiled from: every module of ``package`` (the
-    core: the kernels, the state's and the step context's columns) and the envelope's
-    limits (``envelope.py`` beside it)."""
+    core: the kernels, the state's and the step context's columns) but ``_NOT_COMPILED``,
+    and the envelope's limits (``envelope.py`` beside it)."""
     digest = hashlib.sha256()
-    for path in [*sorted(package.glob("*.py")), package.parent / "envelope.py"]:
+    modules = [path for path in sorted(package.glob("*.py")) if path.name not in _NOT_COMPILED]
+    for path in [*modules, package.parent / "envelope.py"]:
         digest.update(path.name.encode() + path.read_bytes())
     return digest.hexdigest()
 
@@ -171,7 +178,7 @@ def _one_signature(dispatcher: Any) -> Any:
 
 def kernel(function: F) -> F:
     """Compile a function that runs on one thread."""
-    return _one_signature(numba.njit(cache=True, nogil=True)(function))
+    return _one_signature(portable(numba.njit(cache=True, nogil=True)(function)))
 
 
 def inline(function: F) -> F:
@@ -179,7 +186,7 @@ def inline(function: F) -> F:
     loops (the arrays it is handed cost no reference counting per call), or a level of
     the step with one call site (see the module docstring). Each call site compiles it
     again."""
-    return numba.njit(cache=True, nogil=True, inline="always")(function)
+    return portable(numba.njit(cache=True, nogil=True, inline="always")(function))
 
 
 @intrinsic
