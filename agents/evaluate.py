@@ -395,8 +395,15 @@ def main(argv: list[str] | None = None) -> dict[str, Any] | str:
     return evaluate(args.run_dir, args.episodes, args.seed, video, args.video_shots, kwargs)
 
 
-if __name__ == "__main__":
+def cli(argv: list[str] | None = None) -> None:
+    """The command (``impulse2d-evaluate``, ``python -m`` in the clone): ``main``, with bad input
+    told in one line and exit status 1, and nothing returned to the shell (a console
+    script exits with what its function returns)."""
     try:
-        main()
-    except ValueError as error:
+        main(argv)
+    except ValueError as error:  # bad input: one clear line, not a traceback
         sys.exit(f"error: {error}")
+
+
+if __name__ == "__main__":
+    cli()

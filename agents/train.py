@@ -461,8 +461,15 @@ def main(argv: list[str] | None = None) -> Path:
     return run_dir
 
 
-if __name__ == "__main__":
+def cli(argv: list[str] | None = None) -> None:
+    """The command (``impulse2d-train``, ``python -m`` in the clone): ``main``, with bad input
+    told in one line and exit status 1, and nothing returned to the shell (a console
+    script exits with what its function returns)."""
     try:
-        main()
+        main(argv)
     except ValueError as error:  # bad input: one clear line, not a traceback
         sys.exit(f"error: {error}")
+
+
+if __name__ == "__main__":
+    cli()

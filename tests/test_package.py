@@ -6,6 +6,7 @@ marker. (The wheel itself is built, installed into a fresh venv and smoke-tested
 from __future__ import annotations
 
 import importlib
+import inspect
 import re
 import subprocess
 import sys
@@ -43,6 +44,25 @@ def test_every_installed_command_names_a_main_that_takes_its_arguments(name):
     with pytest.raises(SystemExit) as stop:
         main(["--help"])
     assert stop.value.code == 0
+
+
+@pytest.mark.parametrize("name", sorted(PYPROJECT["project"]["scripts"]))
+def test_every_installed_command_gives_the_shell_an_exit_status(name):
+    """A console script exits with what its function returns: a path or a dict would be
+    printed and the command would exit with status 1 after a good run. So each command's
+    function returns None or an int status (its annotation says which)."""
+    module_name, _, attr = PYPROJECT["project"]["scripts"][name].partition(":")
+    function = getattr(importlib.import_module(module_name), attr)
+    assert inspect.signature(function).return_annotation in ("None", "int"), name
+
+
+@pytest.mark.parametrize("command", ["train", "evaluate", "sweep"])
+def test_a_training_command_tells_bad_input_in_one_line(command, capsys):
+    module = importlib.import_module(f"impulse2d.agents.{command}")
+    argv = ["--env", "NoSuchGame-v0"] if command != "evaluate" else ["--episodes", "0"]
+    with pytest.raises(SystemExit) as stop:
+        module.cli(argv)
+    assert str(stop.value.code).startswith("error: "), stop.value.code
 
 
 def test_the_training_code_is_installed_with_its_hyperparameters():
