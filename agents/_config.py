@@ -39,6 +39,8 @@ import inspect
 import json
 import math
 import re
+import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -349,3 +351,19 @@ def load_config(run_dir: str | Path) -> dict[str, Any]:
         raise ValueError(f"run_dir: {str(run_dir)!r} has no config.yml (not a training run?)")
     with open(path) as file:
         return yaml.safe_load(file)
+
+
+def command(main: Callable[[list[str] | None], object]) -> Callable[[list[str] | None], None]:
+    """The command line of ``main`` (an installed console script such as
+    ``impulse2d-train``, and ``python -m agents.train`` in the clone): bad input told in
+    one line with exit status 1, not a traceback, and nothing returned to the shell (a
+    console script exits with what its function returns: a path would be printed and
+    exit 1 after a good run)."""
+
+    def cli(argv: list[str] | None = None) -> None:
+        try:
+            main(argv)
+        except ValueError as error:
+            sys.exit(f"error: {error}")
+
+    return cli

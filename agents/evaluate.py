@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import json
 import pickle
-import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -395,14 +394,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any] | str:
     return evaluate(args.run_dir, args.episodes, args.seed, video, args.video_shots, kwargs)
 
 
-def cli(argv: list[str] | None = None) -> None:
-    """The command (``impulse2d-evaluate``, ``python -m`` in the clone): ``main``, with bad input
-    told in one line and exit status 1, and nothing returned to the shell (a console
-    script exits with what its function returns)."""
-    try:
-        main(argv)
-    except ValueError as error:  # bad input: one clear line, not a traceback
-        sys.exit(f"error: {error}")
+cli = _config.command(main)  # the command line: impulse2d-... and python -m
 
 
 if __name__ == "__main__":

@@ -32,7 +32,6 @@ import argparse
 import itertools
 import json
 import os
-import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -332,14 +331,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     return sweep(spec, parse_seeds(args.seeds), parse_search(args.search), out, args.address)
 
 
-def cli(argv: list[str] | None = None) -> None:
-    """The command (``impulse2d-sweep``, ``python -m`` in the clone): ``main``, with bad input
-    told in one line and exit status 1, and nothing returned to the shell (a console
-    script exits with what its function returns)."""
-    try:
-        main(argv)
-    except ValueError as error:  # bad input: one clear line, not a traceback
-        sys.exit(f"error: {error}")
+cli = _config.command(main)  # the command line: impulse2d-... and python -m
 
 
 if __name__ == "__main__":

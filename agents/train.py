@@ -461,14 +461,7 @@ def main(argv: list[str] | None = None) -> Path:
     return run_dir
 
 
-def cli(argv: list[str] | None = None) -> None:
-    """The command (``impulse2d-train``, ``python -m`` in the clone): ``main``, with bad input
-    told in one line and exit status 1, and nothing returned to the shell (a console
-    script exits with what its function returns)."""
-    try:
-        main(argv)
-    except ValueError as error:  # bad input: one clear line, not a traceback
-        sys.exit(f"error: {error}")
+cli = _config.command(main)  # the command line: impulse2d-... and python -m
 
 
 if __name__ == "__main__":
