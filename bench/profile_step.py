@@ -119,10 +119,11 @@ def _restore(saved, state, w):
     state[5][w] = saved[5][w]
     state[6][w] = saved[6][w]
     state[7][w] = saved[7][w]
+    state[8][w] = saved[8][w]
 
 
 @numba.njit(nogil=True)
-def _collide(body, body_i, shapes, w, ctx, scratch) -> int:
+def _collide(body, body_i, hull, shapes, w, ctx, scratch) -> int:
     """Broadphase and narrowphase once; the point count, or ``NEEDS_ROOM``."""
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     pairs, sorted_pairs, buckets = scratch.pairs, scratch.sorted_pairs, scratch.buckets
@@ -130,7 +131,7 @@ def _collide(body, body_i, shapes, w, ctx, scratch) -> int:
                          buckets)  # fmt: skip
     if n_pairs > pairs.shape[0]:
         return NEEDS_ROOM
-    n = find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
+    n = find_points(body, hull, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
     return NEEDS_ROOM if n > points.shape[0] else n
 
 
@@ -140,12 +141,13 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     order and with its calls; returns the step's contact points (0 before the
     narrowphase), or ``NEEDS_ROOM``. The arrays are ``borrowed``, as ``pipeline.advance``
     hands them to the stages."""
-    body, body_i, spring, _, contact, contact_i, world_i, time = state
+    body, body_i, spring, _, contact, contact_i, world_i, time, hull = state
     body, body_i, spring = borrowed(body), borrowed(body_i), borrowed(spring)
+    hull = borrowed(hull)
     contact, contact_i, world_i = borrowed(contact), borrowed(contact_i), borrowed(world_i)
     time, layout, ctx = borrowed(time), borrowed(layout), borrowed(ctx)
     floats, ints = borrowed(floats), borrowed(ints)
-    state = (body, body_i, spring, borrowed(state[3]), contact, contact_i, world_i, time)
+    state = (body, body_i, spring, borrowed(state[3]), contact, contact_i, world_i, time, hull)
     scratch = views(floats, ints, body.shape[1], points_cap, pairs_cap)
     shapes, ends, sensors = pipeline.split_layout(layout, body.shape[1], spring.shape[1])
     if pipeline.at_rest(body_i, shapes, w):
@@ -162,12 +164,12 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
             scratch.buckets,
         )  # fmt: skip
         return NEEDS_ROOM if n_pairs > pairs.shape[0] else 0
-    n = _collide(body, body_i, shapes, w, ctx, scratch)
+    n = _collide(body, body_i, hull, shapes, w, ctx, scratch)
     if n < 0 or stages == 3:
         return n
     while wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
         step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
-        n = _collide(body, body_i, shapes, w, ctx, scratch)
+        n = _collide(body, body_i, hull, shapes, w, ctx, scratch)
         if n < 0:
             return n
     if stages == 4:
@@ -185,7 +187,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     pipeline.substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     if stages == 6:
         return n
-    project_out_of_planes(body, shapes, w, points, ids, n)
+    project_out_of_planes(body, hull, shapes, w, points, ids, n)
     pipeline.finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving)
     leaves_envelope(body, body_i, shapes, w)
     return n

@@ -1,7 +1,8 @@
 """Every public entry that takes a value, and the kinds of wrong value to give it.
 
 ``ENTRIES`` lists each constructor keyword, settable attribute and method argument of
-``World``, ``Circle``, ``Box``, ``Plane``, ``Spring`` and ``Sensor`` as an ``Entry``: the
+``World``, ``Circle``, ``Box``, ``Polygon``, ``Capsule``, ``Segment``, ``Plane``,
+``Spring`` and ``Sensor`` as an ``Entry``: the
 parameter's name, the shape of value it takes and a function that builds a fresh scene
 and passes it one value. ``BAD[shape]`` are values that must be refused with a
 ``ValueError`` naming the parameter (NaN, inf, strings, None, complex numbers, bools
@@ -68,6 +69,21 @@ BAD: dict[str, dict[str, list[Any]]] = {
         "non-integer": ["0", [0.5], [None], [True]],
         "out of range": [[-1], [5]],
     },
+    "vertices": {
+        "non-finite": [[(0.0, 0.0), (1.0, NAN), (0.0, 1.0)], [(0.0, 0.0), (INF, 0.0), (0.0, 1.0)]],
+        "string": ["abc", [("0", "0"), ("1", "0"), ("0", "1")]],
+        "None": [None, [(0.0, 0.0), None, (0.0, 1.0)]],
+        "complex": [np.array([[0, 0], [1, 0], [0, 1]], np.complex128)],
+        "bool": [np.ones((3, 2), bool)],
+        "shape": [(1.0, 2.0), [(0.0, 0.0), (1.0, 0.0)], [(k, k * k) for k in range(9)]],
+        "object": [Nonsense(), {"a": (0, 0)}],
+        "degenerate": [
+            [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0)],  # collinear
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.8, 0.2)],  # not convex
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 0.001), (0.0, 1.0)],  # an edge under 5 mm
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (1.0, 1.0), (0.0, 1.0)],  # a repeated vertex
+        ],
+    },
     "body": {"not a body": [None, "x", 3, p2.Circle, p2.Plane()]},
     "object": {"not an object": [None, "x", 3, p2.Circle, p2.World]},
 }
@@ -102,6 +118,7 @@ def scene(batch_size: int = 1) -> tuple[p2.World, dict[str, Any]]:
         "box": world.add(p2.Box(position=(2.0, 0.5))),
         "kinematic": world.add(p2.Box(position=(-3.0, 2.0), kinematic=True)),
         "sensor": world.add(p2.Sensor(position=(5.0, 5.0), radius=1.0)),
+        "polygon": world.add(p2.Polygon(vertices=TRIANGLE, position=(4.0, 0.5))),
     }
     parts["spring"] = world.add(p2.Spring(parts["circle"], parts["box"], stiffness=10.0))
     return world, parts
@@ -137,6 +154,12 @@ def _make(cls: type, name: str, **base: Any) -> Callable[[Any], p2.World]:
         return world
 
     return give
+
+
+def _placed(vertices: Any) -> p2.World:
+    world, _ = scene()
+    world.add(p2.Polygon.placed(vertices))
+    return world
 
 
 def _call(part: str, method: str, *before: Any, **kwargs: Any) -> Callable[[Any], Any]:
@@ -193,6 +216,11 @@ BODY_REALS = [
     "health",
 ]
 BODY_VECTORS = ["position", "velocity"]
+TRIANGLE = [(0.0, 0.0), (1.0, 0.0), (0.3, 0.8)]
+OUTLINES = (
+    (p2.Polygon, ["radius"], {"vertices": TRIANGLE}),
+    (p2.Capsule, ["length", "radius"], {}),
+)
 
 
 def _entries() -> list[Entry]:
@@ -252,6 +280,28 @@ def _entries() -> list[Entry]:
             e.append(Entry(kind, name, "vector", _set(kind, name)))
         for name in ("fixed", "kinematic"):
             e.append(Entry(f"{cls.__name__}()", name, "flag", _make(cls, name), extremes=False))
+    for cls, sizes, base in OUTLINES:
+        for name in BODY_REALS + sizes:
+            make = _make(cls, name, position=(0.0, 3.0), **base)
+            e.append(Entry(f"{cls.__name__}()", name, "real", make, inf_is_legal=name == "health"))
+        for name in BODY_VECTORS:
+            e.append(Entry(f"{cls.__name__}()", name, "vector", _make(cls, name, **base)))
+        for name in ("fixed", "kinematic"):
+            flag = _make(cls, name, **base)
+            e.append(Entry(f"{cls.__name__}()", name, "flag", flag, extremes=False))
+    for name in BODY_REALS:
+        e.append(
+            Entry("polygon", name, "real", _set("polygon", name), inf_is_legal=name == "health")
+        )
+    for name in BODY_VECTORS:
+        e.append(Entry("polygon", name, "vector", _set("polygon", name)))
+    e.append(Entry("Polygon()", "vertices", "vertices", _make(p2.Polygon, "vertices")))
+    e.append(Entry("Polygon.placed", "vertices", "vertices", lambda v: _placed(v)))
+    segment = {"start": (-1.0, 0.2), "end": (1.0, 0.0)}
+    for name in ("start", "end"):
+        e.append(Entry("Segment()", name, "vector", _make(p2.Segment, name, **segment)))
+    for name in ("radius", "restitution", "friction"):
+        e.append(Entry("Segment()", name, "real", _make(p2.Segment, name, **segment)))
     e.append(Entry("kinematic", "velocity", "vector", _set("kinematic", "velocity")))
     e.append(Entry("kinematic", "angular_velocity", "real", _set("kinematic", "angular_velocity")))
     for kind in ("circle", "box"):

@@ -41,7 +41,7 @@ MOTIONS = ("dynamic", "fixed", "kinematic")
 
 @dataclass(frozen=True)
 class BodySpec:
-    kind: str  # "circle" (width = radius) or "box"
+    kind: str  # "circle" (width = radius), "box", "triangle" (base x height), "capsule"
     motion: str  # "dynamic", "fixed" or "kinematic"
     x: float
     y: float
@@ -58,7 +58,17 @@ class BodySpec:
     @property
     def bound(self) -> float:
         """Radius of the circle around the body's centre that holds it."""
+        if self.kind == "triangle":
+            return float(np.hypot(*triangle(self.width, self.height).T).max())
+        if self.kind == "capsule":
+            return 0.5 * self.width + 0.5 * self.height
         return self.width if self.kind == "circle" else 0.5 * math.hypot(self.width, self.height)
+
+
+def triangle(base: float, height: float) -> np.ndarray:
+    """An isosceles triangle of ``base`` and ``height`` with its centroid at the origin
+    (a "triangle" body; a "capsule" is ``width`` long with radius ``height / 2``)."""
+    return np.array([(-0.5 * base, -height / 3), (0.5 * base, -height / 3), (0.0, 2 * height / 3)])
 
 
 @dataclass(frozen=True)
@@ -110,6 +120,8 @@ def _half(body: BodySpec) -> tuple[float, float]:
 def _moment(body: BodySpec) -> float:
     if body.kind == "circle":
         return 0.5 * body.mass * body.width**2
+    if body.kind in ("triangle", "capsule"):
+        return body_object(body).moment
     return body.mass * (body.width**2 + body.height**2) / 12.0
 
 
@@ -143,7 +155,7 @@ def spring_values(scene: Scene) -> dict:
 
 
 # -- building -------------------------------------------------------------------------------------
-def body_object(body: BodySpec) -> p2.Circle | p2.Box:
+def body_object(body: BodySpec) -> p2.Body:
     moving = body.motion != "fixed"
     common = {
         "position": (body.x, body.y),
@@ -158,6 +170,10 @@ def body_object(body: BodySpec) -> p2.Circle | p2.Box:
     }
     if body.kind == "circle":
         return p2.Circle(radius=body.width, **common)
+    if body.kind == "triangle":
+        return p2.Polygon(vertices=triangle(body.width, body.height), **common)
+    if body.kind == "capsule":
+        return p2.Capsule(length=body.width, radius=0.5 * body.height, **common)
     return p2.Box(width=body.width, height=body.height, **common)
 
 
@@ -189,12 +205,16 @@ def code(scene: Scene) -> str:
     ]
     for i, b in enumerate(scene.bodies):
         moving = b.motion != "fixed"
-        size = f"radius={b.width!r}" if b.kind == "circle" else f"width={b.width!r}, "
-        size += "" if b.kind == "circle" else f"height={b.height!r}"
+        cls, size = {
+            "circle": ("Circle", f"radius={b.width!r}"),
+            "box": ("Box", f"width={b.width!r}, height={b.height!r}"),
+            "triangle": ("Polygon", f"vertices={triangle(b.width, b.height).tolist()!r}"),
+            "capsule": ("Capsule", f"length={b.width!r}, radius={0.5 * b.height!r}"),
+        }[b.kind]
         motion = {"fixed": ", fixed=True", "kinematic": ", kinematic=True"}.get(b.motion, "")
         speed = f"velocity=({b.vx!r}, {b.vy!r}), angular_velocity={b.spin!r}, " if moving else ""
         lines.append(
-            f"b{i} = world.add(p2.{'Circle' if b.kind == 'circle' else 'Box'}("
+            f"b{i} = world.add(p2.{cls}("
             f"position=({b.x!r}, {b.y!r}), {size}, mass={b.mass!r}, angle={b.angle!r}, "
             f"{speed}restitution={b.restitution!r}, friction={b.friction!r}{motion}))"
         )

@@ -24,7 +24,11 @@ from impulse2d.core.narrowphase import (
     CIRCLE_PLANE,
     PAIRS,
 )
-from impulse2d.core.state import BOX, CIRCLE, PLANE
+from impulse2d.core.state import BOX, CIRCLE, PLANE, POLYGON
+
+NO_ROW = np.zeros(0)  # the outline row of every shape but a polygon (outlines.py)
+# The tutorial's pairs; the polygon pairs have tests of their own (test_stage_outlines.py).
+TUTORIAL_PAIRS = (CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX, CIRCLE_PLANE, BOX_PLANE)
 
 DT = 1 / 60
 HALF_DIAGONAL = math.sqrt(0.5)  # of a unit square
@@ -100,7 +104,7 @@ def test_normal_points_from_a_to_b(kind):
     """B to the right of A: the normal is (+1, 0) to 1e-12 for every pair function, and the
     manifold satisfies the anchor and surface conventions."""
     a, b = RIGHTWARD[kind]
-    manifold = PAIRS[kind][2](a, b, 0.2, 0.0)
+    manifold = PAIRS[kind][2](a, b, NO_ROW, NO_ROW, 0.2, 0.0)
     assert manifold[0] != 0
     np.testing.assert_allclose(normal_of(manifold), [1.0, 0.0], atol=1e-12)
     check_manifold(kind, a, b, manifold)
@@ -124,8 +128,8 @@ def test_turning_the_scene_turns_the_manifold(kind, phi):
     leaves kept mask, separations and feature ids unchanged (1e-12)."""
     a, b = RIGHTWARD[kind]
     function = PAIRS[kind][2]
-    ref = function(a, b, 0.2, 0.0)
-    turned = function(_rotated(a, phi), _rotated(b, phi), 0.2, 0.0)
+    ref = function(a, b, NO_ROW, NO_ROW, 0.2, 0.0)
+    turned = function(_rotated(a, phi), _rotated(b, phi), NO_ROW, NO_ROW, 0.2, 0.0)
     c, s = math.cos(phi), math.sin(phi)
     turn = np.array([[c, -s], [s, c]])
     assert turned[0] == ref[0]
@@ -165,7 +169,7 @@ def test_separation_is_the_hand_computed_gap(kind, a, b, expected):
     """The deepest point's separation is the gap between the shapes (0 touching, > 0 the
     distance, < 0 minus the depth; 45-degree boxes stand on a corner at y - half diagonal),
     to 1e-12; every point satisfies the anchor and surface conventions."""
-    manifold = PAIRS[kind][2](a, b, 0.3, 7.0)
+    manifold = PAIRS[kind][2](a, b, NO_ROW, NO_ROW, 0.3, 7.0)
     points = kept_points(manifold)
     assert points
     assert min(p[4] for p in points) == pytest.approx(expected, abs=1e-12)
@@ -178,7 +182,7 @@ def test_rotated_box_on_a_corner_has_one_point():
     directly below the centre (1e-12); the other corners are out of the margin."""
     y = 0.72
     a, b = box(0.3, y, 0.5, 0.5, math.pi / 4), plane(0, 0, 0, 1)
-    manifold = narrowphase.box_plane(a, b, 0.05, 0.0)
+    manifold = narrowphase.box_plane(a, b, NO_ROW, NO_ROW, 0.05, 0.0)
     assert manifold[0] == 1 << 2
     rax, ray, _, _, sep, feature = manifold[3 + 2]
     assert feature == 2
@@ -191,7 +195,7 @@ def test_circle_plane_point_is_midway():
     below the centre at height g / 2, rA = (0, -(r + g/2)), normal (0, -1) (1e-12)."""
     r, g = 0.4, 0.06
     a, b = circle(2.0, r + g, r), plane(-5.0, 0.0, 0.0, 1.0)
-    manifold = narrowphase.circle_plane(a, b, 0.1, 0.0)
+    manifold = narrowphase.circle_plane(a, b, NO_ROW, NO_ROW, 0.1, 0.0)
     assert manifold[0] == 1
     np.testing.assert_allclose(normal_of(manifold), [0.0, -1.0], atol=1e-12)
     rax, ray, rbx, rby, sep, _ = manifold[3]
@@ -217,7 +221,10 @@ def test_margin_keeps_points_closer_than_it(kind):
     margin 1e-9 below keeps none (kept when separation < margin)."""
     a, b = AT_GAP[kind]
     function = PAIRS[kind][2]
-    above, below = function(a, b, GAP + 1e-9, 0.0), function(a, b, GAP - 1e-9, 0.0)
+    above, below = (
+        function(a, b, NO_ROW, NO_ROW, GAP + 1e-9, 0.0),
+        function(a, b, NO_ROW, NO_ROW, GAP - 1e-9, 0.0),
+    )
     expected = {BOX_BOX: 2, BOX_PLANE: 2}.get(kind, 1)
     assert len(kept_points(above)) == expected
     assert all(p[4] == pytest.approx(GAP, abs=1e-12) for p in kept_points(above))
@@ -234,7 +241,7 @@ def test_resting_box_has_its_two_lower_corners(tilt):
     n = np.array([-math.sin(tilt), math.cos(tilt)])
     centre = np.array([0.4, -0.2]) + 0.25 * np.array([n[1], -n[0]]) + hh * n
     a, b = box(*centre, hw, hh, tilt), plane(0.4, -0.2, *n)
-    manifold = narrowphase.box_plane(a, b, 0.02, 0.0)
+    manifold = narrowphase.box_plane(a, b, NO_ROW, NO_ROW, 0.02, 0.0)
     assert manifold[0] == (1 << 2) | (1 << 3)
     np.testing.assert_allclose(normal_of(manifold), -n, atol=1e-12)
     c, s = math.cos(tilt), math.sin(tilt)
@@ -275,7 +282,9 @@ def _box_plane_points(angle, height, spin) -> list[int]:
     broadphase.pushed_reach(state.body, shapes, 0, ctx, terms, pairs, 0)  # no other body
     points = np.zeros((8, workspace.POINT_F))
     ids = np.zeros((8, 3), np.int64)
-    n = narrowphase.find_points(state.body, shapes, 0, ctx, terms, pairs, 1, points, ids)
+    n = narrowphase.find_points(
+        state.body, state.hull, shapes, 0, ctx, terms, pairs, 1, points, ids
+    )
     return ids[:n, 2].tolist()
 
 
@@ -300,7 +309,7 @@ def test_box_resting_on_bigger_box_normal_up_from_a():
     (1e-12), feature ids differing only in the incident vertex."""
     lower, upper = box(0, 0, 1.0, 0.5), box(0.2, 1.0, 0.5, 0.5)
     for a, b, normal in ((lower, upper, 1.0), (upper, lower, -1.0)):
-        manifold = narrowphase.box_box(a, b, 0.02, 0.0)
+        manifold = narrowphase.box_box(a, b, NO_ROW, NO_ROW, 0.02, 0.0)
         assert manifold[0] == 0b11
         np.testing.assert_allclose(normal_of(manifold), [0.0, normal], atol=1e-12)
         points = kept_points(manifold)
@@ -315,7 +324,7 @@ def test_box_box_points_are_clipped_to_the_reference_face():
     """A 3 x 1 box resting on a unit box: the incident edge is clipped to the lower box's
     top face, so the points are at x = -0.5 and 0.5 (1e-12), separation 0."""
     a, b = box(0, 0, 0.5, 0.5), box(0, 1.0, 1.5, 0.5)
-    manifold = narrowphase.box_box(a, b, 0.02, 0.0)
+    manifold = narrowphase.box_box(a, b, NO_ROW, NO_ROW, 0.02, 0.0)
     points = kept_points(manifold)
     np.testing.assert_allclose(sorted(a[0] + p[0] for p in points), [-0.5, 0.5], atol=1e-12)
     np.testing.assert_allclose([p[4] for p in points], [0.0, 0.0], atol=1e-12)
@@ -334,8 +343,8 @@ def test_box_box_features_survive_small_motion(dx, dy, dangle, upper_half_width)
     lower = box(0, 0, 1.0, 0.5)
     upper = box(0.2, 1.0, upper_half_width, 0.5)
     moved = box(0.2 + dx, 1.0 + dy, upper_half_width, 0.5, dangle)
-    ref = narrowphase.box_box(lower, upper, 0.02, 0.0)
-    after = narrowphase.box_box(lower, moved, 0.02, 0.0)
+    ref = narrowphase.box_box(lower, upper, NO_ROW, NO_ROW, 0.02, 0.0)
+    after = narrowphase.box_box(lower, moved, NO_ROW, NO_ROW, 0.02, 0.0)
     assert after[0] == ref[0] == 0b11
     assert [p[5] for p in kept_points(after)] == [p[5] for p in kept_points(ref)]
     np.testing.assert_allclose(normal_of(after), normal_of(ref), atol=1e-3)
@@ -348,7 +357,7 @@ def test_circle_circle_normal_at_time_of_impact():
     centres (3, 1)/sqrt(10); the separation is n . d - 2r; rA and rB lie along n."""
     r, v = 0.5, 4.0
     a, b = circle(0, 0, r), circle(3 * r, r, r, v=(-v, 0.0))
-    manifold = narrowphase.circle_circle(a, b, 1.0, 0.0)
+    manifold = narrowphase.circle_circle(a, b, NO_ROW, NO_ROW, 1.0, 0.0)
     assert manifold[0] == 1
     n = normal_of(manifold)
     np.testing.assert_allclose(n, [math.sqrt(3) / 2, 0.5], atol=1e-12)
@@ -368,7 +377,9 @@ def test_circle_circle_miss_uses_closest_approach():
     """B passing above A, (3r, 3r) moving (-v, 0), never touches: the normal is the line of
     centres at closest approach, (0, 1), and the separation 3r - 2r = r (1e-12)."""
     r = 0.5
-    manifold = narrowphase.circle_circle(circle(0, 0, r), circle(3 * r, 3 * r, r, (-4, 0)), 1.5, 0)
+    manifold = narrowphase.circle_circle(
+        circle(0, 0, r), circle(3 * r, 3 * r, r, (-4, 0)), NO_ROW, NO_ROW, 1.5, 0
+    )
     np.testing.assert_allclose(normal_of(manifold), [0.0, 1.0], atol=1e-12)
     assert manifold[3][4] == pytest.approx(r, abs=1e-12)
 
@@ -379,8 +390,8 @@ def test_coincident_circles_normal_depends_on_tag():
     a, b = circle(1.0, 2.0, 0.3), circle(1.0, 2.0, 0.2)
     normals = []
     for tag in range(20):
-        manifold = narrowphase.circle_circle(a, b, 0.1, float(tag))
-        again = narrowphase.circle_circle(a, b, 0.1, float(tag))
+        manifold = narrowphase.circle_circle(a, b, NO_ROW, NO_ROW, 0.1, float(tag))
+        again = narrowphase.circle_circle(a, b, NO_ROW, NO_ROW, 0.1, float(tag))
         assert manifold == again
         n = normal_of(manifold)
         assert np.linalg.norm(n) == pytest.approx(1.0, abs=1e-12)
@@ -407,7 +418,7 @@ def _random_pair(kind, rng):
     return make(kind_a, (0.0, 0.0)), make(kind_b, rng.uniform(-1.2, 1.2, 2))
 
 
-@pytest.mark.parametrize("kind", sorted(PAIRS))
+@pytest.mark.parametrize("kind", TUTORIAL_PAIRS)
 def test_random_shapes_obey_the_conventions(kind):
     """200 random placements per pair (at rest, overlapping or not): every manifold has a
     unit normal, A + rA = B + rB, and the point lies midway: P -/+ (s/2) n on A's/B's surface
@@ -416,7 +427,7 @@ def test_random_shapes_obey_the_conventions(kind):
     found = 0
     for _ in range(200):
         a, b = _random_pair(kind, rng)
-        manifold = PAIRS[kind][2](a, b, 0.3, float(rng.integers(100)))
+        manifold = PAIRS[kind][2](a, b, NO_ROW, NO_ROW, 0.3, float(rng.integers(100)))
         if manifold[0]:
             found += 1
             check_manifold(kind, a, b, manifold)
@@ -432,13 +443,13 @@ def test_circle_box_separation_is_signed_distance(seed):
     rng = np.random.default_rng(seed)
     for _ in range(300):
         a, b = _random_pair(CIRCLE_BOX, rng)
-        manifold = narrowphase.circle_box(a, b, 10.0, 0.0)
+        manifold = narrowphase.circle_box(a, b, NO_ROW, NO_ROW, 10.0, 0.0)
         expected = distance(b, BOX, (a[0], a[1])) - a[4]
         assert manifold[3][4] == pytest.approx(expected, abs=1e-12)
 
 
 # -- the registry and the dispatch ------------------------------------------------------------
-@pytest.mark.parametrize("kind", sorted(PAIRS))
+@pytest.mark.parametrize("kind", TUTORIAL_PAIRS)
 def test_collide_dispatches_as_the_registry_says(kind):
     """``collide(k, ...)`` returns exactly ``PAIRS[k][2](...)`` for every pair kind, on 50
     random placements each."""
@@ -446,7 +457,9 @@ def test_collide_dispatches_as_the_registry_says(kind):
     function = PAIRS[kind][2]
     for _ in range(50):
         a, b = _random_pair(kind, rng)
-        assert narrowphase.collide(kind, a, b, 0.3, 5.0) == function(a, b, 0.3, 5.0)
+        assert narrowphase.collide(kind, a, b, NO_ROW, NO_ROW, 0.3, 5.0) == function(
+            a, b, NO_ROW, NO_ROW, 0.3, 5.0
+        )
 
 
 def test_pair_kind_matches_the_registry():
@@ -454,7 +467,8 @@ def test_pair_kind_matches_the_registry():
     ordered pair of shape kinds but plane-plane has exactly one entry."""
     for key, (kind_a, kind_b, _) in PAIRS.items():
         assert narrowphase.pair_kind(kind_a, kind_b) == key
-    ordered = [(a, b) for a in (CIRCLE, BOX, PLANE) for b in (CIRCLE, BOX, PLANE) if a <= b]
+    kinds = (CIRCLE, BOX, POLYGON, PLANE)
+    ordered = [(a, b) for a in kinds for b in kinds if a <= b]
     registered = sorted((kind_a, kind_b) for kind_a, kind_b, _ in PAIRS.values())
     assert registered == sorted(set(ordered) - {(PLANE, PLANE)})
     assert narrowphase.pair_kind(PLANE, PLANE) == -1

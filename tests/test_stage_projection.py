@@ -24,7 +24,7 @@ def project(world: p2.World) -> np.ndarray:
     step = prepared(world)
     before = step.body[0].copy()
     projection.project_out_of_planes(
-        step.body, world.layout.shapes, 0, step.points, step.ids, step.n
+        step.body, world.state.hull, world.layout.shapes, 0, step.points, step.ids, step.n
     )  # fmt: skip
     return before
 
@@ -32,7 +32,8 @@ def project(world: p2.World) -> np.ndarray:
 def depth(world: p2.World, body, plane) -> float:
     slots = world.objects["bodies"]
     i, j = slots.index(body), slots.index(plane)
-    return projection.depth_in_plane(world.state.body, world.layout.shapes, 0, i, j)
+    state = world.state
+    return projection.depth_in_plane(state.body, state.hull, world.layout.shapes, 0, i, j)
 
 
 def test_a_disc_deep_in_the_ground_ends_exactly_half_its_radius_in():

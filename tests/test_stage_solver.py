@@ -46,7 +46,9 @@ def prepared(world: p2.World, dt: float = DT) -> SimpleNamespace:
     )  # fmt: skip
     points = np.zeros((64, workspace.POINT_F))
     ids = np.zeros((64, 3), np.int64)
-    n = narrowphase.find_points(state.body, shapes, 0, ctx, terms, pairs, count, points, ids)
+    n = narrowphase.find_points(
+        state.body, state.hull, shapes, 0, ctx, terms, pairs, count, points, ids
+    )
     contacts.carry_impulses(state.contact, state.contact_i, state.world_i, 0, terms, points, ids, n)
     contacts.prepare(state.body, 0, ctx, terms, points, ids, n)
     return SimpleNamespace(body=state.body, ctx=ctx, terms=terms, points=points, ids=ids, n=n)

@@ -19,6 +19,7 @@ does; ``IMPULSE2D_QUIET=1`` silences it.
 
 from . import _compile_notice
 from .envelope import EnvelopeError
+from .polygons import Capsule, Polygon, Segment
 from .readouts import ContactPoints, Energy
 from .sensors import Sensor
 from .shapes import Body, Box, Circle, Plane
@@ -28,11 +29,14 @@ from .world import Snapshot, World
 __all__ = [
     "Body",
     "Box",
+    "Capsule",
     "Circle",
     "ContactPoints",
     "Energy",
     "EnvelopeError",
     "Plane",
+    "Polygon",
+    "Segment",
     "Sensor",
     "Snapshot",
     "Spring",

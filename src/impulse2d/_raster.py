@@ -88,6 +88,32 @@ def box(
     _blend(canvas, i0, i1, j0, j1, np.clip(0.5 - distance, 0.0, 1.0), colour, alpha)
 
 
+def polygon(
+    canvas: np.ndarray, points: np.ndarray, radius: float, colour: Colour, alpha: float = 1.0
+) -> None:
+    """A filled convex polygon with corners ``points`` (n, 2) in pixels (counter-clockwise
+    as the world sees it, so clockwise on screen; n >= 2), rounded by ``radius`` pixels.
+    Its signed distance: inside, the largest of the edges' signed distances (each <= 0);
+    outside, the distance to the nearest edge segment; minus the rounding."""
+    points = np.asarray(points, np.float64)
+    low, high = points.min(axis=0) - radius - 1, points.max(axis=0) + radius + 1
+    window = _window(canvas, low[0], low[1], high[0], high[1])
+    if window is None:
+        return
+    i0, i1, j0, j1, xs, ys = window
+    p = np.stack(np.meshgrid(xs, ys), axis=-1)[..., None, :]  # (h, w, 1, 2)
+    start = points
+    edge = np.roll(points, -1, axis=0) - points
+    # Clockwise on screen (y down): the outward normal of edge e is (-e_y, e_x).
+    normal = np.column_stack([-edge[:, 1], edge[:, 0]]) / np.hypot(edge[:, 0], edge[:, 1])[:, None]
+    gaps = np.sum((p - start) * normal, axis=-1).max(axis=-1)
+    t = np.clip(np.sum((p - start) * edge, axis=-1) / np.sum(edge * edge, axis=-1), 0.0, 1.0)
+    nearest = np.linalg.norm(p - start - t[..., None] * edge, axis=-1).min(axis=-1)
+    inside = gaps <= 0.0 if len(points) > 2 else np.zeros(gaps.shape, bool)
+    distance = np.where(inside, gaps, nearest) - radius
+    _blend(canvas, i0, i1, j0, j1, np.clip(0.5 - distance, 0.0, 1.0), colour, alpha)
+
+
 def segment(
     canvas: np.ndarray,
     x0: float,

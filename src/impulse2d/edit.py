@@ -22,6 +22,7 @@ from .core.state import (
     ANGULAR_DRAG,
     AWAKE,
     BOUND,
+    BOUND_RADIUS,
     BOX,
     CIRCLE,
     COS,
@@ -40,9 +41,11 @@ from .core.state import (
     MASS,
     MOMENT,
     OMEGA,
+    POLYGON,
     SIN,
     SLEEP_TIME,
     TORQUE,
+    UNIT_MOMENT,
     VX,
     VY,
     Layout,
@@ -137,7 +140,8 @@ def refresh_derived(state: WorldState, slot: int, columns: list[int]) -> None:
 
 def rebuild_mass(state: WorldState, layout: Layout, slot: int) -> None:
     """Moment of inertia, inverse mass and moment, and bounding radius of a body, from its
-    mass and size, in every world: a disc ``m r^2 / 2``, a box ``m (w^2 + h^2) / 12``."""
+    mass and size, in every world: a disc ``m r^2 / 2``, a box ``m (w^2 + h^2) / 12``, a
+    polygon its mass times its outline's moment per kg."""
     body = state.body[:, slot]
     kind, motion = int(layout.kind[slot]), int(layout.motion[slot])
     if kind == CIRCLE:
@@ -148,9 +152,12 @@ def rebuild_mass(state: WorldState, layout: Layout, slot: int) -> None:
     elif kind == BOX:
         # (w^2 + h^2) / 12 with w = 2 hw: (4 hw^2 + 4 hh^2) / 12 = (hw^2 + hh^2) / 3
         moment, bound = mass * (hw * hw + hh * hh) / 3.0, np.sqrt(hw * hw + hh * hh)
+    elif kind == POLYGON:  # its outline holds the moment per kg and the bounding radius
+        outline = state.hull[:, slot]
+        moment, bound = mass * outline[:, UNIT_MOMENT], outline[:, BOUND_RADIUS].copy()
     else:
         moment, bound = np.zeros_like(mass), np.zeros_like(mass)
-    dynamic = motion == DYNAMIC and kind in (CIRCLE, BOX)
+    dynamic = motion == DYNAMIC and kind in (CIRCLE, BOX, POLYGON)
     body[:, MOMENT], body[:, BOUND] = moment, bound
     body[:, INV_MASS] = 1.0 / mass if dynamic else 0.0
     body[:, INV_MOMENT] = 1.0 / moment if dynamic else 0.0

@@ -27,6 +27,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import _checks
+
 __all__ = ["MAX_VERTICES", "MIN_EDGE", "MIN_TURN", "MassProperties", "check_polygon", "mass"]
 
 MAX_VERTICES = 8
@@ -50,7 +52,7 @@ def _cross(ax: float, ay: float, bx: float, by: float) -> float:
 def check_polygon(vertices: ArrayLike, radius: float = 0.0) -> NDArray[np.float64]:
     """The vertices as a counter-clockwise (n, 2) float64 array, or a ``ValueError``
     naming the rule broken (this module's docstring)."""
-    points = np.array(vertices, dtype=np.float64)
+    points = _checks.real_array("vertices", vertices)
     if points.ndim != 2 or points.shape[1] != 2:
         raise ValueError(f"vertices must be a list of (x, y) pairs, got shape {points.shape}")
     n = len(points)

@@ -109,8 +109,8 @@ class Frames:
         frames = np.empty((batch, self.height, self.width, 3), np.uint8)
 
         def draw_chunk(_: int, first: int, last: int) -> None:
-            raster.draw(frames, self._background, state.body, state.body_i, shapes, colours,
-                        self.scale, self.left, self.top, first, last)  # fmt: skip
+            raster.draw(frames, self._background, state.body, state.body_i, state.hull, shapes,
+                        colours, self.scale, self.left, self.top, first, last)  # fmt: skip
 
         threads = min(world.threads, batch)
         chunks = 1 if threads == 1 else min(batch, _CHUNKS_PER_THREAD * threads)

@@ -33,8 +33,10 @@ from .core.state import (
     MASS,
     MOMENT,
     OMEGA,
+    PLANE,
     POINT_X,
     POINT_Y,
+    POLYGON,
     REST_LENGTH,
     SEPARATION,
     SPRING_ON,
@@ -47,6 +49,7 @@ from .core.state import (
     X,
     Y,
 )
+from .polygons import contains
 
 
 @dataclass(frozen=True)
@@ -121,7 +124,7 @@ def energy(state: WorldState, layout: Layout, gravity: np.ndarray) -> Energy:
     """Kinetic, gravitational and spring energy per world; fixed and kinematic bodies are
     left out (they are driven, not part of the system)."""
     body = state.body
-    counted = (layout.motion == DYNAMIC) & (layout.kind >= 0) & (layout.kind <= BOX)
+    counted = (layout.motion == DYNAMIC) & (layout.kind >= 0) & (layout.kind != PLANE)
     counted = counted[None, :] & (state.body_i[:, :, ENABLED] == 1)
     mass = np.where(counted, body[:, :, MASS], 0.0)
     moment = np.where(counted, body[:, :, MOMENT], 0.0)
@@ -183,7 +186,8 @@ def touches(state: WorldState) -> tuple[np.ndarray, ...]:
 
 
 def containing(state: WorldState, layout: Layout, point: np.ndarray, world: int) -> np.ndarray:
-    """The slots of the enabled circles and boxes of one world that contain ``point``."""
+    """The slots of the enabled circles, boxes and polygons of one world that contain
+    ``point``."""
     body = state.body[world]
     dx, dy = point[0] - body[:, X], point[1] - body[:, Y]
     c, s = np.cos(body[:, ANGLE]), np.sin(body[:, ANGLE])
@@ -193,5 +197,8 @@ def containing(state: WorldState, layout: Layout, point: np.ndarray, world: int)
     inside = np.where(
         kind == CIRCLE, np.hypot(lx, ly) <= hw, (np.abs(lx) <= hw) & (np.abs(ly) <= hh)
     )
-    inside &= ((kind == CIRCLE) | (kind == BOX)) & (state.body_i[world, :, ENABLED] == 1)
+    for slot in np.flatnonzero(kind == POLYGON):
+        inside[slot] = contains(state.hull[world, slot], np.array([lx[slot], ly[slot]]))
+    solid = (kind == CIRCLE) | (kind == BOX) | (kind == POLYGON)
+    inside &= solid & (state.body_i[world, :, ENABLED] == 1)
     return np.flatnonzero(inside)

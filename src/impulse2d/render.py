@@ -43,6 +43,10 @@ from .core.state import (
     NORMAL_X,
     NORMAL_Y,
     PLANE,
+    POLYGON,
+    ROUNDING,
+    VERTEX0,
+    VERTEX_COUNT,
     VX,
     VY,
     X,
@@ -272,6 +276,10 @@ class Renderer:
                 reach = max(radius - 0.5 * width, 0.0)  # the round cap stays inside the disc
                 tip_x, tip_y = cx + reach * math.cos(angle), cy - reach * math.sin(angle)
                 raster.segment(canvas, cx, cy, tip_x, tip_y, width, mark)
+            elif view.kind[slot] == POLYGON:
+                corners = view.world_vertices(slot)
+                points = np.column_stack(self._px(corners[:, 0], corners[:, 1]))
+                raster.polygon(canvas, points, float(view.hull[slot, ROUNDING]) * s, colour)
             else:
                 raster.box(
                     canvas,
@@ -335,6 +343,9 @@ class Renderer:
             c, s = abs(math.cos(view.angle[slot])), abs(math.sin(view.angle[slot]))
             hw, hh = float(view.half_w[slot]), float(view.half_h[slot])
             ex, ey = (hw, hw) if view.kind[slot] == CIRCLE else (c * hw + s * hh, s * hw + c * hh)
+            if view.kind[slot] == POLYGON:
+                corners = view.world_vertices(slot) - [view.x[slot], view.y[slot]]
+                ex, ey = np.abs(corners).max(axis=0) + view.hull[slot, ROUNDING]
             x0, y0 = self._px(view.x[slot] - ex, view.y[slot] + ey)
             x1, y1 = self._px(view.x[slot] + ex, view.y[slot] - ey)
             raster.rectangle_outline(canvas, x0, y0, x1, y1, 1.0, colour, 0.8)
@@ -351,10 +362,20 @@ class _WorldView:
         self.vx, self.vy = body[:, VX], body[:, VY]
         self.half_w, self.half_h = body[:, HALF_W], body[:, HALF_H]
         self.normal_x, self.normal_y = body[:, NORMAL_X], body[:, NORMAL_Y]
+        self.hull = world.state.hull[index]
+
+    def world_vertices(self, slot: int) -> np.ndarray:
+        """A polygon's vertices (n, 2) in world coordinates (m)."""
+        row = self.hull[slot]
+        n = int(row[VERTEX_COUNT])
+        local = row[VERTEX0 : VERTEX0 + 2 * n].reshape(n, 2)
+        c, s = math.cos(self.angle[slot]), math.sin(self.angle[slot])
+        return local @ np.array([[c, s], [-s, c]]) + [self.x[slot], self.y[slot]]
 
     def slots(self, moving: bool) -> np.ndarray:
-        """Enabled circles and boxes that can move (or that are fixed), in slot order."""
-        solid = ((self.kind == CIRCLE) | (self.kind == BOX)) & self.enabled
+        """Enabled circles, boxes and polygons that can move (or that are fixed), in slot
+        order."""
+        solid = ((self.kind == CIRCLE) | (self.kind == BOX) | (self.kind == POLYGON)) & self.enabled
         fixed = self.motion == FIXED
         return np.flatnonzero(solid & (~fixed if moving else fixed))
 
@@ -367,6 +388,8 @@ class _WorldView:
         parts = [fixed, planes]
         for array in (self.x, self.y, self.angle, self.half_w, self.half_h):
             parts.append(array[fixed])
+        if self.hull.shape[0] == len(self.kind):  # polygons are about: a row a slot
+            parts.append(self.hull[fixed])
         for array in (self.x, self.y, self.normal_x, self.normal_y):
             parts.append(array[planes])
         return b"".join(np.ascontiguousarray(p).tobytes() for p in parts)

@@ -63,7 +63,10 @@ class Spring(Part):
 
         for name, body in (("body1", body1), ("body2", body2)):
             if not isinstance(body, Body):
-                raise ValueError(f"{name} must be a Circle or Box, got {type(body).__name__}")
+                raise ValueError(
+                    f"{name} must be a body (a Circle, Box, Polygon, ...), "
+                    f"got {type(body).__name__}"
+                )
         if body1 is body2:
             raise ValueError(
                 "body1 and body2 must be different bodies (a spring from a body "

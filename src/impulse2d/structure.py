@@ -28,6 +28,7 @@ from .core.state import (
     NORMAL_X,
     NORMAL_Y,
     PLANE,
+    POLYGON,
     REST_LENGTH,
     SAP_ORDER,
     SENSOR_ON,
@@ -35,6 +36,7 @@ from .core.state import (
     body_defaults,
     grown,
 )
+from .polygons import inner_radius
 from .sensors import Sensor
 from .shapes import Body, Plane, _Slot
 from .springs import Spring
@@ -76,7 +78,8 @@ def add(world: World, obj: Any) -> Any:
         return _add_sensor(world, obj)
     if not isinstance(obj, (Body, Plane)):
         raise ValueError(
-            f"obj must be a Circle, Box, Plane, Spring or Sensor, got {type(obj).__name__}"
+            "obj must be a body (Circle, Box, Polygon, Capsule, Segment), Plane, Spring or "
+            f"Sensor, got {type(obj).__name__}"
         )
     if obj._world is not None:
         raise ValueError(f"{obj!r} is already in a world; remove it first")
@@ -99,6 +102,12 @@ def add(world: World, obj: Any) -> Any:
         state.body[:, slot, HALF_H] = state.body[:, slot, HALF_W]
     if obj._kind == PLANE:
         state.body[:, slot, NORMAL_X], state.body[:, slot, NORMAL_Y] = obj._normal
+    if obj._kind == POLYGON:
+        state.make_hulls()
+        state.hull[:, slot] = obj._outline
+        # Both half sizes are the inner radius: what "its smallest half size" means for
+        # the projection out of planes and the envelope.
+        state.body[:, slot, HALF_W] = state.body[:, slot, HALF_H] = inner_radius(obj._outline)
     state.body_i[:, slot, ENABLED] = 1
     state.body_i[:, slot, AWAKE] = 0 if obj._motion == FIXED else 1
     world.objects["bodies"][slot] = obj

@@ -280,7 +280,7 @@ class World:
     # -- objects ------------------------------------------------------------------------------
     @property
     def bodies(self) -> list:
-        """Every Circle, Box and Plane in the world, in slot order."""
+        """Every body and plane in the world, in slot order."""
         return [obj for obj in self.objects["bodies"] if obj is not None]
 
     @property
@@ -294,8 +294,8 @@ class World:
         return [obj for obj in self.objects["sensors"] if obj is not None]
 
     def add(self, obj: Any) -> Any:
-        """Add a Circle, Box, Plane, Spring or Sensor to every world of the batch; returns
-        ``obj``."""
+        """Add a body (Circle, Box, Polygon, Capsule, Segment), Plane, Spring or Sensor to
+        every world of the batch; returns ``obj``."""
         return structure.add(self, obj)
 
     def remove(self, obj: Any) -> None:

@@ -1,5 +1,6 @@
-"""A small scene with every shape pair, a spring, a sensor and breakable bodies, stepped
-(and once more with its manifolds coloured) and its final state written to the file
+"""A small scene with every shape pair (the polygon ones too), a spring, a sensor and
+breakable bodies, stepped (and once more with its manifolds coloured) and its final
+state written to the file
 named on the command line (``test_compiled.py`` runs it compiled and with
 ``NUMBA_DISABLE_JIT=1`` and compares the two; ``test_gpu.py``
 runs it with ``--device cuda`` in numba's CUDA simulator against the CPU)."""
@@ -29,7 +30,16 @@ def build(device: str = "cpu") -> p2.World:
     world.add(p2.Spring(ball, pig, stiffness=20.0, damping=0.5, anchor1=(0.1, 0.0)))
     world.add(p2.Sensor(position=(2.0, 3.0), radius=0.5, disables=True))
     world.add(p2.Sensor(position=(0.0, 2.0), width=12.0, height=8.0, outside=True))
-    del kick
+    # The outlines: a triangle dropped on the stack, a rounded hexagon on a fixed shelf
+    # (a segment), a capsule rolled at the pig, a rod (a thin box-like polygon) on the
+    # ground: every polygon pair (circle, box, polygon, plane) meets.
+    world.add(p2.Polygon(vertices=[(0, 0), (0.6, 0), (0.2, 0.5)], position=(0.5, 2.2), angle=0.3))
+    shelf = world.add(p2.Segment(start=(-2.9, 1.2), end=(-1.9, 1.0), radius=0.02))
+    hexagon = [(0.25 * np.cos(t), 0.25 * np.sin(t)) for t in np.arange(6) * np.pi / 3]
+    world.add(p2.Polygon(vertices=hexagon, radius=0.03, position=(-2.4, 1.6), angular_velocity=2.0))
+    world.add(p2.Capsule(length=0.4, radius=0.12, position=(0.9, 0.4), velocity=(1.0, 0.0)))
+    world.add(p2.Polygon(vertices=[(0, 0), (1.2, 0), (1.2, 0.1), (0, 0.1)], position=(-0.5, 1.8)))
+    del kick, shelf
     return world
 
 
@@ -58,6 +68,7 @@ def main(path: str, device: str = "cpu") -> None:
         contact_i=s.contact_i,
         world_i=s.world_i,
         time=s.time,
+        hull=s.hull,
         steps=steps,
     )
 

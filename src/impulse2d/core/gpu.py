@@ -55,7 +55,7 @@ THREADS_PER_BLOCK = 64  # worlds per block; a world's step is long and branchy
 
 
 def _advance_worlds(
-    body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
+    body, body_i, spring, sensor, contact, contact_i, world_i, time, hull, layout, ctx, plan,
     max_steps, until_rest, parts, undo_floats, undo_ints,
 ) -> None:  # fmt: skip
     """``pipeline.advance_world`` for plan row ``cuda.grid(1)``, with the scratch row of
@@ -63,7 +63,7 @@ def _advance_worlds(
     caller zeroes the plan's counters)."""
     j = cuda.grid(1)
     if j < plan.shape[0]:
-        state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+        state = (body, body_i, spring, sensor, contact, contact_i, world_i, time, hull)
         pipeline.advance_world(
             state, layout, ctx, plan, j, max_steps, until_rest, scratch_row(parts, j),
             undo_floats, undo_ints,
@@ -226,7 +226,7 @@ def launch(
     arrays: tuple, layout: np.ndarray, ctx: np.ndarray, plan: np.ndarray, max_steps: int,
     until_rest: bool, pairs: int, undo: tuple, scratch: DeviceScratch, buffers: DeviceBuffers,
 ) -> int:  # fmt: skip
-    """One ``Runner`` call on the GPU: ``arrays`` (``WorldState``'s eight, in order),
+    """One ``Runner`` call on the GPU: ``arrays`` (``WorldState``'s nine, in order),
     ``plan`` and the two ``undo`` arrays copied to the device world innermost, every
     plan row stepped by a thread of its own in one launch, and all of them copied back.
     Returns the largest status. The caller has zeroed the plan's counters for a fresh
@@ -238,8 +238,8 @@ def launch(
     blocks = (plan.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     with _without_fma():  # the first launch for these types compiles
         advance_worlds[blocks, THREADS_PER_BLOCK](
-            *seen[:8], cuda.to_device(layout), cuda.to_device(ctx), seen[8], max_steps,
-            until_rest, parts, seen[9], seen[10],
+            *seen[:9], cuda.to_device(layout), cuda.to_device(ctx), seen[9], max_steps,
+            until_rest, parts, seen[10], seen[11],
         )  # fmt: skip
     for m in moved:
         m.back()

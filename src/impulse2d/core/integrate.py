@@ -36,7 +36,6 @@ from .state import (
     AWAKE,
     BOUND,
     BOX,
-    CIRCLE,
     COS,
     DAMP_ANGULAR,
     DAMP_H,
@@ -44,6 +43,7 @@ from .state import (
     DAMPING,
     DYNAMIC,
     ENABLED,
+    FREE,
     FX,
     FY,
     HALF_H,
@@ -53,6 +53,7 @@ from .state import (
     LINEAR_DRAG,
     OMEGA,
     PLANE,
+    POLYGON,
     REST_LENGTH,
     ROLLING,
     SIN,
@@ -182,12 +183,16 @@ def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
         if kind == BOX:
             c, s = abs(body[w, i, COS]), abs(body[w, i, SIN])
             extent_x, extent_y = c * hw + s * hh, s * hw + c * hh
+        elif kind == POLYGON:
+            # The circle about the centre of mass that holds the outline: looser than the
+            # rotated outline's own box, but read from the body row alone.
+            extent_x = extent_y = body[w, i, BOUND]
         else:
             extent_x, extent_y = hw, hw
         # The broadphase box: the shape's box grown by how far the body can travel this
         # step and by half its speculative distance.
         grow = terms[i, REACH] * dt + terms[i, HALF_SPEC]
-        in_broadphase = enabled and (kind == CIRCLE or kind == BOX)
+        in_broadphase = enabled and kind != PLANE and kind != FREE
         terms[i, LEFT] = x - extent_x - grow if in_broadphase else np.inf
         terms[i, RIGHT] = x + extent_x + grow
         terms[i, BOTTOM] = y - extent_y - grow
@@ -238,11 +243,11 @@ def integrate_positions(body, w, h, moving, count) -> None:
 
 @kernel
 def refresh_rotation(body, shapes, w, moving, count) -> None:
-    """``COS``, ``SIN`` of the boxes that moved this step (``list_moving``), so they are
-    current between steps for everyone who reads them."""
+    """``COS``, ``SIN`` of the boxes and polygons that moved this step (``list_moving``),
+    so they are current between steps for everyone who reads them."""
     for k in range(count):
         i = moving[k]
-        if shapes[i, 0] == BOX:
+        if shapes[i, 0] == BOX or shapes[i, 0] == POLYGON:
             body[w, i, COS] = math.cos(body[w, i, ANGLE])
             body[w, i, SIN] = math.sin(body[w, i, ANGLE])
 

@@ -2,9 +2,10 @@
 
 Conventions, used throughout the engine:
 
-* A pair ``(A, B)`` always has ``kind(A) <= kind(B)`` (circle < box < plane), so five
-  functions cover every pair; plane-plane never collides. ``PAIRS`` is the one registry
-  of them, and ``collide`` dispatches by it.
+* A pair ``(A, B)`` always has ``kind(A) <= kind(B)`` (circle < box < polygon < plane),
+  so nine functions cover every pair; plane-plane never collides. ``PAIRS`` is the one
+  registry of them, and ``collide`` dispatches by it. The polygon pairs (capsules and
+  segments are polygons) live in ``outlines.py``.
 * The normal ``n`` points from A to B. The separation is the signed gap along it,
   negative when the shapes overlap.
 * A point's anchors ``rA``, ``rB`` are its offsets from A's and B's centres, in world
@@ -14,13 +15,16 @@ Conventions, used throughout the engine:
   contact before it reaches the surface and cannot tunnel.
 * Points of a pair come out ordered by feature id (which vertex of which face made
   them), which lets the solver carry their impulses over to the next step. A pair has
-  up to two points, except a box against a plane: a speculative point at each corner.
+  up to two points, except a box or polygon against a plane: a speculative point at
+  each corner (at most four).
 
-Each function is pure: it takes the two shapes as tuples of numbers (``shape``) and the
-margin, and returns a *manifold*: ``(kept, nx, ny, p0, p1, p2, p3)``, the unit normal and
-up to four points ``(rax, ray, rbx, rby, separation, feature)``, bit ``k`` of ``kept``
-saying that point ``k`` is in it. (Plain numbers in and out, no arrays, cost nothing to
-pass in compiled code and are easy to test on hand-built shapes.)
+Each function is pure: it takes the two shapes as tuples of numbers (``shape``), their
+outlines (a polygon's row of ``state.hull``; an empty row for every other shape, which
+only the polygon pairs read) and the margin, and returns a *manifold*:
+``(kept, nx, ny, p0, p1, p2, p3)``, the unit normal and up to four points
+``(rax, ray, rbx, rby, separation, feature)``, bit ``k`` of ``kept`` saying that point
+``k`` is in it. (Plain numbers and rows in and out cost nothing to pass in compiled code
+and are easy to test on hand-built shapes.)
 """
 
 from __future__ import annotations
@@ -29,7 +33,23 @@ import math
 
 from . import context
 from ._jit import kernel
-from .state import BOX, CIRCLE, COS, HALF_H, HALF_W, NORMAL_X, NORMAL_Y, PLANE, SIN, VX, VY, X, Y
+from .outlines import B_REFERENCE, circle_polygon, polygon_plane, polygon_polygon
+from .state import (
+    BOX,
+    CIRCLE,
+    COS,
+    HALF_H,
+    HALF_W,
+    NORMAL_X,
+    NORMAL_Y,
+    PLANE,
+    POLYGON,
+    SIN,
+    VX,
+    VY,
+    X,
+    Y,
+)
 from .workspace import (
     AGAINST_PLANE,
     HALF_SPEC,
@@ -46,7 +66,9 @@ from .workspace import (
 )
 
 CIRCLE_CIRCLE, CIRCLE_BOX, BOX_BOX, CIRCLE_PLANE, BOX_PLANE = range(5)
-FEATURES = 32  # feature ids are < 32 (box-box: 8 reference faces x 4 incident vertices)
+CIRCLE_POLYGON, BOX_POLYGON, POLYGON_POLYGON, POLYGON_PLANE = range(5, 9)
+# Feature ids are < 128 (polygons: 2 reference sides x 8 edges x 8 incident vertices).
+FEATURES = 2 * B_REFERENCE
 _GOLDEN_ANGLE = math.pi * (3.0 - math.sqrt(5.0))
 # A shape: (x, y, cos, sin, half_w, half_h, vx, vy, normal_x, normal_y). A circle's radius is
 # its half width; a plane's point is (x, y).
@@ -74,7 +96,7 @@ def shape_of(body, terms, w, i):
 
 
 @kernel
-def circle_circle(a, b, margin, tag):
+def circle_circle(a, b, row_a, row_b, margin, tag):
     """Two discs: one point, on the line of centres *where they will meet*.
 
     A speculative contact constrains motion along one normal: ``n . (relative motion) >=
@@ -121,7 +143,7 @@ def circle_circle(a, b, margin, tag):
 
 
 @kernel
-def circle_box(a, b, margin, tag):
+def circle_box(a, b, row_a, row_b, margin, tag):
     """Disc A against box B: the closest point on the box, or the nearest face if inside."""
     c, s = b[SCOS], b[SSIN]
     hw, hh, r = b[SHW], b[SHH], a[SHW]
@@ -152,7 +174,7 @@ def circle_box(a, b, margin, tag):
 
 
 @kernel
-def circle_plane(a, b, margin, tag):
+def circle_plane(a, b, row_a, row_b, margin, tag):
     """Disc A against half-space B: one point below the centre."""
     nx, ny, r = b[SNX], b[SNY], a[SHW]
     ox, oy = a[SX] - b[SX], a[SY] - b[SY]
@@ -179,7 +201,7 @@ def _corner(a, b, corner, base, margin):
 
 
 @kernel
-def box_plane(a, b, margin, tag):
+def box_plane(a, b, row_a, row_b, margin, tag):
     """Box A against half-space B: every corner within the margin (up to four).
 
     A resting box has two (its lower corners); a box spinning fast near the ground can
@@ -248,7 +270,7 @@ def _incident_edge(inc, ref_x, ref_y):
 
 
 @kernel
-def box_box(a, b, margin, tag):
+def box_box(a, b, row_a, row_b, margin, tag):
     """Two boxes by separating axes, with up to two points clipped from the incident edge.
 
     The axis of ``_reference_axis`` picks a *reference* face; the face of the other box
@@ -305,6 +327,10 @@ PAIRS = {
     BOX_BOX: (BOX, BOX, box_box),
     CIRCLE_PLANE: (CIRCLE, PLANE, circle_plane),
     BOX_PLANE: (BOX, PLANE, box_plane),
+    CIRCLE_POLYGON: (CIRCLE, POLYGON, circle_polygon),
+    BOX_POLYGON: (BOX, POLYGON, polygon_polygon),
+    POLYGON_POLYGON: (POLYGON, POLYGON, polygon_polygon),
+    POLYGON_PLANE: (POLYGON, PLANE, polygon_plane),
 }
 
 
@@ -312,48 +338,62 @@ PAIRS = {
 def pair_kind(kind_a, kind_b) -> int:
     """The entry of ``PAIRS`` for shapes of kinds ``kind_a <= kind_b`` (-1: none)."""
     if kind_a == CIRCLE:
+        if kind_b == POLYGON:
+            return CIRCLE_POLYGON
         return CIRCLE_CIRCLE if kind_b == CIRCLE else CIRCLE_BOX if kind_b == BOX else CIRCLE_PLANE
     if kind_a == BOX:
-        return BOX_BOX if kind_b == BOX else BOX_PLANE
+        return BOX_BOX if kind_b == BOX else BOX_POLYGON if kind_b == POLYGON else BOX_PLANE
+    if kind_a == POLYGON:
+        return POLYGON_POLYGON if kind_b == POLYGON else POLYGON_PLANE
     return -1
 
 
 @kernel
-def collide(kind, a, b, margin, tag):
+def collide(kind, a, b, row_a, row_b, margin, tag):
     """The manifold of shapes ``a`` and ``b`` by the function ``PAIRS`` names for ``kind``.
 
     (Compiled code cannot look a function up in a dict, so the dispatch is written out;
     a test checks it against ``PAIRS``.)"""
     if kind == CIRCLE_CIRCLE:
-        return circle_circle(a, b, margin, tag)
+        return circle_circle(a, b, row_a, row_b, margin, tag)
     if kind == CIRCLE_BOX:
-        return circle_box(a, b, margin, tag)
+        return circle_box(a, b, row_a, row_b, margin, tag)
     if kind == BOX_BOX:
-        return box_box(a, b, margin, tag)
+        return box_box(a, b, row_a, row_b, margin, tag)
     if kind == CIRCLE_PLANE:
-        return circle_plane(a, b, margin, tag)
-    return box_plane(a, b, margin, tag)
+        return circle_plane(a, b, row_a, row_b, margin, tag)
+    if kind == BOX_PLANE:
+        return box_plane(a, b, row_a, row_b, margin, tag)
+    if kind == CIRCLE_POLYGON:
+        return circle_polygon(a, b, row_a, row_b, margin, tag)
+    if kind == POLYGON_PLANE:
+        return polygon_plane(a, b, row_a, row_b, margin, tag)
+    return polygon_polygon(a, b, row_a, row_b, margin, tag)
 
 
 @kernel
 def anchor_kept(kind_a, kind_b, feature) -> float:
     """Which anchor of a point is a material point that moves with its body
     (``contacts.follow_bodies``): 0 A's, 1 B's, 2 both (two discs). A disc's point is on
-    its surface below its centre; a box's against a plane, its vertex; of two boxes, the
-    incident box's vertex (feature ids from 16 up have their reference face on B)."""
+    its surface below its centre; a box's or polygon's against a plane, its vertex; of two
+    boxes or polygons, the incident one's vertex (box-box feature ids from 16 up, and
+    polygon ones from ``B_REFERENCE`` up, have their reference face on B)."""
     if kind_a == CIRCLE:
         return 2.0 if kind_b == CIRCLE else 0.0
     if kind_b == BOX:
         return 0.0 if feature >= 16 else 1.0
+    if kind_b == POLYGON:
+        return 0.0 if feature >= B_REFERENCE else 1.0
     return 0.0
 
 
 @kernel
-def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int:
+def find_points(body, hull, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int:
     """The points of every candidate pair, in pair order and, within a pair, by feature.
     A pair's margin is what the two can close this step plus their speculative distances.
     Returns the count (past the capacity of ``points``, only counted)."""
     dt = ctx[context.DT]
+    no_outline = ctx[:0]  # the empty row every shape but a polygon is given
     count = 0
     for k in range(n_pairs):
         a, b = pairs[k, 0], pairs[k, 1]
@@ -362,10 +402,14 @@ def find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids) -> int
         else:
             closing = (terms[a, REACH] + terms[b, REACH]) * dt
         margin = terms[a, HALF_SPEC] + terms[b, HALF_SPEC] + closing
+        row_a = hull[w, a] if shapes[a, 0] == POLYGON else no_outline
+        row_b = hull[w, b] if shapes[b, 0] == POLYGON else no_outline
         manifold = collide(
             pair_kind(shapes[a, 0], shapes[b, 0]),
             shape_of(body, terms, w, a),
             shape_of(body, terms, w, b),
+            row_a,
+            row_b,
             margin,
             float(a * 65537 + b),
         )

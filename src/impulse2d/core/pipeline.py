@@ -121,7 +121,7 @@ def rest_step(body, contact, world_i, time, w, ctx) -> None:
 
 
 @inline
-def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row) -> int:
+def collide_and_wake(body, body_i, shapes, spring, ends, hull, w, ctx, scratch, plan_row) -> int:
     """Broadphase and narrowphase, waking the islands a moving body touches and looking
     again with them awake, until nothing more wakes. Returns the number of points, or -1
     when the scratch rows are too small (the plan row says how much is needed)."""
@@ -137,7 +137,7 @@ def collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_r
         if n_pairs > pairs.shape[0]:
             plan_row[NEED_PAIRS] = n_pairs
             return -1
-        n = find_points(body, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
+        n = find_points(body, hull, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
         if n > points.shape[0]:
             plan_row[NEED_POINTS] = n
             return -1
@@ -208,7 +208,7 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
 def finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving) -> None:
     """Everything after the solver: contacts, events, forces, sleep, the clock
     (``n_moving``: how many bodies ``scratch.moving`` lists)."""
-    body, body_i, spring, sensor, contact, contact_i, world_i, time = state
+    body, body_i, spring, sensor, contact, contact_i, world_i, time, _ = state
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     merged, merged_ids = scratch.merged, scratch.merged_ids
     store(body_i, contact, contact_i, world_i, w, terms, points, ids, n, merged, merged_ids)
@@ -236,15 +236,15 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     """One step of world ``w``; returns a status (``RUNNING`` when it stepped).
 
     ``state`` is the tuple ``(body, body_i, spring, sensor, contact, contact_i, world_i,
-    time)`` of ``WorldState``'s arrays."""
-    body, body_i, spring, _, contact, contact_i, world_i, time = state
+    time, hull)`` of ``WorldState``'s arrays."""
+    body, body_i, spring, _, contact, contact_i, world_i, time, hull = state
     shapes, ends, sensors = split_layout(layout, body.shape[1], spring.shape[1])
     if at_rest(body_i, shapes, w):
         rest_step(body, contact, world_i, time, w, ctx)
         return RUNNING
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
     step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
-    n = collide_and_wake(body, body_i, shapes, spring, ends, w, ctx, scratch, plan_row)
+    n = collide_and_wake(body, body_i, shapes, spring, ends, hull, w, ctx, scratch, plan_row)
     if n < 0:
         return NEEDS_ROOM
     needed = n + count_dormant(body_i, contact_i, world_i, w, terms)
@@ -261,7 +261,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
     coloured = colour(ctx, scratch, n)
     n_moving = list_moving(terms, scratch.moving)
     substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
-    project_out_of_planes(body, shapes, w, points, ids, n)
+    project_out_of_planes(body, hull, shapes, w, points, ids, n)
     finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving)
     slot, what = leaves_envelope(body, body_i, shapes, w)
     if slot >= 0:
@@ -295,7 +295,7 @@ def advance_world(state, layout, ctx, plan, j, max_steps, until_rest, scratch, u
 
 @kernel
 def advance(
-    body, body_i, spring, sensor, contact, contact_i, world_i, time, layout, ctx, plan,
+    body, body_i, spring, sensor, contact, contact_i, world_i, time, hull, layout, ctx, plan,
     max_steps, until_rest, floats, ints, pairs, undo_floats, undo_ints, fresh,
 ) -> int:  # fmt: skip
     """``advance_world`` for every row of the plan, one after the other, with scratch row
@@ -308,9 +308,10 @@ def advance(
     spring, sensor = borrowed(spring), borrowed(sensor)
     contact, contact_i, world_i = borrowed(contact), borrowed(contact_i), borrowed(world_i)
     time, layout, ctx, plan = borrowed(time), borrowed(layout), borrowed(ctx), borrowed(plan)
+    hull = borrowed(hull)
     floats, ints = borrowed(floats), borrowed(ints)
     undo_floats, undo_ints = borrowed(undo_floats), borrowed(undo_ints)
-    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time, hull)
     scratch = views(floats[0], ints[0], body.shape[1], contact.shape[1], pairs)
     worst = RUNNING
     for j in range(plan.shape[0]):

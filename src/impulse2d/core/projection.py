@@ -24,7 +24,8 @@ thing no contact can move.
 
 With the deepest point of a body at most half its smallest half size ``s`` in, its
 centre is at least ``s / 2`` in front: the support distance of a box or disc along any
-normal is at least ``s``.
+normal is at least ``s`` (a polygon's half sizes are both its inner radius: the
+distance from its centre of mass to its nearest edge, plus its rounding).
 """
 
 from __future__ import annotations
@@ -32,7 +33,22 @@ from __future__ import annotations
 import math
 
 from ._jit import kernel
-from .state import ANGLE, BOX, HALF_H, HALF_W, INV_MASS, NORMAL_X, NORMAL_Y, PLANE, X, Y
+from .state import (
+    ANGLE,
+    BOX,
+    HALF_H,
+    HALF_W,
+    INV_MASS,
+    NORMAL_X,
+    NORMAL_Y,
+    PLANE,
+    POLYGON,
+    ROUNDING,
+    VERTEX0,
+    VERTEX_COUNT,
+    X,
+    Y,
+)
 from .workspace import AGAINST_PLANE
 
 DEEPEST_FRACTION = 0.5  # of the body's smallest half size: the deepest point allowed in a plane
@@ -40,12 +56,19 @@ _MAX_PLANES = 8  # planes looked at per body (more is a scene of its own)
 
 
 @kernel
-def depth_in_plane(body, shapes, w, i, plane) -> float:
+def depth_in_plane(body, hull, shapes, w, i, plane) -> float:
     """How far (m) the deepest point of body ``i`` is behind the plane (< 0: in front),
     at its current pose: its support distance along the normal minus its centre's."""
     nx, ny = body[w, plane, NORMAL_X], body[w, plane, NORMAL_Y]
     centre = (body[w, i, X] - body[w, plane, X]) * nx + (body[w, i, Y] - body[w, plane, Y]) * ny
     hw, hh = body[w, i, HALF_W], body[w, i, HALF_H]
+    if shapes[i, 0] == POLYGON:  # its farthest vertex along -n, and its rounding
+        c, s = math.cos(body[w, i, ANGLE]), math.sin(body[w, i, ANGLE])
+        deepest = -math.inf
+        for k in range(int(hull[w, i, VERTEX_COUNT])):
+            lx, ly = hull[w, i, VERTEX0 + 2 * k], hull[w, i, VERTEX0 + 2 * k + 1]
+            deepest = max(deepest, -(nx * (c * lx - s * ly) + ny * (s * lx + c * ly)))
+        return deepest + hull[w, i, ROUNDING] - centre
     if shapes[i, 0] != BOX:
         return hw - centre  # a disc: its radius
     c, s = math.cos(body[w, i, ANGLE]), math.sin(body[w, i, ANGLE])
@@ -55,7 +78,7 @@ def depth_in_plane(body, shapes, w, i, plane) -> float:
 
 
 @kernel
-def _plane(body, shapes, w, ids, n, i, first, allowed, j):
+def _plane(body, hull, shapes, w, ids, n, i, first, allowed, j):
     """``(n_x, n_y, excess, count)`` of body ``i``'s plane ``j``: its planes are the
     distinct planes of its pairs (which start at point ``first``), in point order, at
     most ``_MAX_PLANES``; ``excess`` is how much deeper than ``allowed`` the body is in
@@ -70,25 +93,25 @@ def _plane(body, shapes, w, ids, n, i, first, allowed, j):
         if shapes[plane, 0] != PLANE or (k > first and ids[k - 1, 1] == plane) or m == _MAX_PLANES:
             continue
         if m == j:
-            excess = depth_in_plane(body, shapes, w, i, plane) - allowed
+            excess = depth_in_plane(body, hull, shapes, w, i, plane) - allowed
             return body[w, plane, NORMAL_X], body[w, plane, NORMAL_Y], excess, m
         m += 1
     return 0.0, 0.0, 0.0, m
 
 
 @kernel
-def _worst_excess(body, shapes, w, ids, n, i, first, allowed, m, tx, ty) -> float:
+def _worst_excess(body, hull, shapes, w, ids, n, i, first, allowed, m, tx, ty) -> float:
     """The largest ``excess_j - n_j . t`` over the ``m`` planes: how much deeper than
     allowed the body stays after the move ``t`` (<= 0: nowhere)."""
     worst = -math.inf
     for j in range(m):
-        nx, ny, excess, _ = _plane(body, shapes, w, ids, n, i, first, allowed, j)
+        nx, ny, excess, _ = _plane(body, hull, shapes, w, ids, n, i, first, allowed, j)
         worst = max(worst, excess - (nx * tx + ny * ty))
     return worst
 
 
 @kernel
-def _smallest_move(body, shapes, w, ids, n, i, first, allowed, m):
+def _smallest_move(body, hull, shapes, w, ids, n, i, first, allowed, m):
     """The shortest translation ``t`` with ``n_j . t >= excess_j`` for the ``m`` planes of
     body ``i`` (``_plane``: a move along ``n_j`` takes the body out of plane ``j``;
     ``excess_j`` how much deeper it is than allowed, negative for the planes it is clear
@@ -97,7 +120,7 @@ def _smallest_move(body, shapes, w, ids, n, i, first, allowed, m):
     corner where two are met exactly, and the candidates are few. If none meets them all
     (a body in a wedge of planes narrower than itself), the one that leaves the least
     excess."""
-    where = (body, shapes, w, ids, n, i, first, allowed)
+    where = (body, hull, shapes, w, ids, n, i, first, allowed)
     best_x = best_y = 0.0
     best_norm, best_worst = math.inf, _worst_excess(*where, m, 0.0, 0.0)
     tolerance = 1e-9 * (1.0 + max(abs(best_worst), 0.0))
@@ -125,18 +148,18 @@ def _smallest_move(body, shapes, w, ids, n, i, first, allowed, m):
 
 
 @kernel
-def _project_body(body, shapes, w, ids, n, i, first) -> None:
+def _project_body(body, hull, shapes, w, ids, n, i, first) -> None:
     """Move body ``i`` (its pairs start at point ``first``) out of its planes, at most
     ``_MAX_PLANES`` of them (the first by slot)."""
     allowed = DEEPEST_FRACTION * min(body[w, i, HALF_W], body[w, i, HALF_H])
-    m = _plane(body, shapes, w, ids, n, i, first, allowed, _MAX_PLANES)[3]
-    tx, ty = _smallest_move(body, shapes, w, ids, n, i, first, allowed, m)
+    m = _plane(body, hull, shapes, w, ids, n, i, first, allowed, _MAX_PLANES)[3]
+    tx, ty = _smallest_move(body, hull, shapes, w, ids, n, i, first, allowed, m)
     body[w, i, X] += tx
     body[w, i, Y] += ty
 
 
 @kernel
-def project_out_of_planes(body, shapes, w, points, ids, n) -> None:
+def project_out_of_planes(body, hull, shapes, w, points, ids, n) -> None:
     """Move every dynamic body deeper in a plane it has a point against than
     ``DEEPEST_FRACTION`` of its smallest half size, by the shortest translation that
     leaves it at most that deep in each of its planes (``_smallest_move``). Points are
@@ -149,6 +172,6 @@ def project_out_of_planes(body, shapes, w, points, ids, n) -> None:
         if done or points[k, AGAINST_PLANE] != 1.0 or body[w, i, INV_MASS] == 0.0:
             continue
         allowed = DEEPEST_FRACTION * min(body[w, i, HALF_W], body[w, i, HALF_H])
-        if depth_in_plane(body, shapes, w, i, ids[k, 1]) > allowed:
-            _project_body(body, shapes, w, ids, n, i, first)
+        if depth_in_plane(body, hull, shapes, w, i, ids[k, 1]) > allowed:
+            _project_body(body, hull, shapes, w, ids, n, i, first)
             done = True

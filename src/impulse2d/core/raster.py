@@ -22,7 +22,23 @@ from __future__ import annotations
 import math
 
 from ._jit import inline, kernel
-from .state import CIRCLE, COS, ENABLED, FREE, HALF_H, HALF_W, PLANE, SIN, X, Y
+from .state import (
+    CIRCLE,
+    COS,
+    EDGE_NORMAL0,
+    ENABLED,
+    FREE,
+    HALF_H,
+    HALF_W,
+    PLANE,
+    POLYGON,
+    ROUNDING,
+    SIN,
+    VERTEX0,
+    VERTEX_COUNT,
+    X,
+    Y,
+)
 
 
 @inline
@@ -75,8 +91,43 @@ def box(frame, cx, cy, half_w, half_h, cos, sin, colour) -> None:
                 _blend(frame, i, j, coverage, colour)
 
 
+@inline
+def outline(frame, cx, cy, row, scale, cos, sin, colour) -> None:
+    """A filled outline (a ``state.hull`` row, metres) centred at pixel ``(cx, cy)`` at
+    ``scale`` pixels a metre, turned as ``box``. Its signed distance in the body frame:
+    inside, the largest of the edges' ``n . (p - v)``; outside, the distance to the
+    nearest edge segment; minus the rounding."""
+    n = int(row[VERTEX_COUNT])
+    reach = 0.0
+    for k in range(n):
+        vx, vy = row[VERTEX0 + 2 * k], row[VERTEX0 + 2 * k + 1]
+        reach = max(reach, math.sqrt(vx * vx + vy * vy))
+    reach = (reach + row[ROUNDING]) * scale
+    i0, i1 = _span(cy, reach, frame.shape[0])
+    j0, j1 = _span(cx, reach, frame.shape[1])
+    for i in range(i0, i1):
+        up = (cy - (i + 0.5)) / scale
+        for j in range(j0, j1):
+            dx = (j + 0.5 - cx) / scale
+            u, v = cos * dx + sin * up, -sin * dx + cos * up
+            gap, nearest = -math.inf, math.inf
+            for k in range(n):
+                ax, ay = row[VERTEX0 + 2 * k], row[VERTEX0 + 2 * k + 1]
+                m = k + 1 if k + 1 < n else 0
+                ex, ey = row[VERTEX0 + 2 * m] - ax, row[VERTEX0 + 2 * m + 1] - ay
+                gap = max(gap, row[EDGE_NORMAL0 + 2 * k] * (u - ax)
+                          + row[EDGE_NORMAL0 + 2 * k + 1] * (v - ay))  # fmt: skip
+                t = min(max(((u - ax) * ex + (v - ay) * ey) / (ex * ex + ey * ey), 0.0), 1.0)
+                ox, oy = u - ax - t * ex, v - ay - t * ey
+                nearest = min(nearest, math.sqrt(ox * ox + oy * oy))
+            core = gap if gap <= 0.0 and n > 2 else nearest
+            coverage = min(max(0.5 - (core - row[ROUNDING]) * scale, 0.0), 1.0)
+            if coverage > 0.0:
+                _blend(frame, i, j, coverage, colour)
+
+
 @kernel
-def draw(frames, background, body, body_i, shapes, colours, scale, left, top, first, last):
+def draw(frames, background, body, body_i, hull, shapes, colours, scale, left, top, first, last):
     """The frames of worlds ``first`` to ``last - 1`` (rows of ``frames``, (B, H, W, 3)
     uint8): each starts from ``background`` (H, W, 3) and gets every enabled body whose
     ``colours`` row says to draw it, in slot order, at ``scale`` pixels a metre with the
@@ -98,6 +149,9 @@ def draw(frames, background, body, body_i, shapes, colours, scale, left, top, fi
             half_w, half_h = body[w, slot, HALF_W] * scale, body[w, slot, HALF_H] * scale
             if kind == CIRCLE:
                 disc(frame, cx, cy, half_w, palette[slot])
+            elif kind == POLYGON:
+                outline(frame, cx, cy, hull[w, slot], scale, body[w, slot, COS],
+                        body[w, slot, SIN], palette[slot])  # fmt: skip
             else:
                 box(frame, cx, cy, half_w, half_h, body[w, slot, COS], body[w, slot, SIN],
                     palette[slot])  # fmt: skip

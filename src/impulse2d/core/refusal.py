@@ -84,7 +84,7 @@ def _slots_in_use(shapes) -> int:
 def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Copy what a step of world ``w`` can change into its undo rows. (Scalar loops: on
     rows this short, numba's slice copies cost more than the copying.)"""
-    body, body_i, _, _, contact, contact_i, world_i, time = state
+    body, body_i, _, _, contact, contact_i, world_i, time, _ = state
     floats, ints = undo_floats[w], undo_ints[w]
     floats[0] = time[w]
     at = 1
@@ -115,7 +115,7 @@ def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
 def restore_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Put world ``w`` back as ``save_world`` found it (the contact arrays have the
     capacity they had then)."""
-    body, body_i, _, _, contact, contact_i, world_i, time = state
+    body, body_i, _, _, contact, contact_i, world_i, time, _ = state
     floats, ints = undo_floats[w], undo_ints[w]
     time[w] = floats[0]
     at = 1
@@ -146,10 +146,10 @@ def restore_world(state, shapes, undo_floats, undo_ints, w) -> None:
 
 
 @kernel
-def restore(body, body_i, spring, sensor, contact, contact_i, world_i, time, layout,
+def restore(body, body_i, spring, sensor, contact, contact_i, world_i, time, hull, layout,
             undo_floats, undo_ints, worlds) -> None:  # fmt: skip
     """``restore_world`` for each of ``worlds`` (``layout``: ``Layout.rows``)."""
-    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time)
+    state = (body, body_i, spring, sensor, contact, contact_i, world_i, time, hull)
     shapes = layout[: body.shape[1]]
     for w in worlds:
         restore_world(state, shapes, undo_floats, undo_ints, w)

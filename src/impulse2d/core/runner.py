@@ -246,8 +246,8 @@ class Runner:
         floats, ints = self._scratch(chunks, state.body.shape[1], state.contact_capacity)
         args = (
             state.body, state.body_i, state.spring, state.sensor, state.contact,
-            state.contact_i, state.world_i, state.time, layout.rows, ctx, plan, max_steps,
-            until_rest, floats, ints, self.pair_capacity, *undo, fresh,
+            state.contact_i, state.world_i, state.time, state.hull, layout.rows, ctx, plan,
+            max_steps, until_rest, floats, ints, self.pair_capacity, *undo, fresh,
         )  # fmt: skip
         if chunks == 1:
             self._last_args = args

@@ -16,11 +16,17 @@ array           shape, dtype           what (columns below; SI units: m, kg, s, 
 ``contact_i``   (B, C, CONTACT_I) i8   their two bodies and feature id
 ``world_i``     (B, WORLD_I) i8        contact count, steps taken
 ``time``        (B,) f8                simulated time (s)
+``hull``        (B, H, HULL_F) f8      a polygon's or capsule's outline (columns below)
 ==============  =====================  ======================================================
 
 Columns are module constants (``X``, ``VX``, ``ENABLED``, ...), so a kernel reads
 ``body[w, i, VX]`` and the names are documented here once. The few arrays keep a
 compiled call cheap: its cost grows with the number of arrays passed.
+
+``hull`` is indexed by body slot like ``body`` (``H == N``), but it has one spare row
+(``H == 1``) until the first polygon or capsule is added, so the worlds of circles and
+boxes (pool, the tutorial's scenes) carry none of its 36 columns a slot. (One row, not
+none: a GPU cannot take an array of no elements.)
 
 A snapshot is a copy of the ``WorldState``; ``replicate`` repeats it along the world
 axis. Contacts are kept sorted by ``(body A, body B, feature)`` in every world, with
@@ -33,8 +39,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-# Shape kinds, ordered: a contact pair (A, B) has kind(A) <= kind(B).
-CIRCLE, BOX, PLANE = 0, 1, 2
+# Shape kinds, ordered: a contact pair (A, B) has kind(A) <= kind(B). A capsule is a
+# polygon of two vertices with a rounding radius, so it has no kind of its own.
+CIRCLE, BOX, POLYGON, PLANE = 0, 1, 2, 3
 FREE = -1  # an unused slot
 # Motion types.
 DYNAMIC, KINEMATIC, FIXED = 0, 1, 2
@@ -46,7 +53,8 @@ FX, FY, TORQUE = 6, 7, 8  # applied force (N) and torque (N m), cleared after ea
 MASS, INV_MASS = 9, 10  # kg as given; 1/kg, 0 for fixed and kinematic bodies
 MOMENT, INV_MOMENT = 11, 12  # kg m^2 about the centre; its inverse, 0 if not dynamic
 HALF_W, HALF_H = 13, 14  # half width and height (m); both the radius for a circle
-BOUND = 15  # bounding radius (m): the radius, a box's half diagonal, 0 for planes
+BOUND = 15  # bounding radius (m): the radius, a box's half diagonal, a polygon's farthest
+# surface point from its centre of mass (its hull's BOUND_RADIUS), 0 for planes
 NORMAL_X, NORMAL_Y = 16, 17  # a plane's unit normal, out of its solid side
 RESTITUTION, FRICTION = 18, 19  # coefficients (mixed per contact by the world's rules)
 LINEAR_DRAG, ANGULAR_DRAG = 20, 21  # 1/s: velocity decays as exp(-drag t)
@@ -54,7 +62,8 @@ ROLLING = 22  # rolling resistance (m/s^2): a constant deceleration of the speed
 SLEEP_TIME = 23  # s the body has been slower than the sleep speed
 HEALTH = 24  # drained by impacts (N s); the body is switched off at 0; inf: unbreakable
 # Derived, kept current so a step need not recompute them for every body:
-COS, SIN = 25, 26  # of a box's angle, between steps (the narrowphase and broadphase use them)
+# COS, SIN: of a box's or polygon's angle, between steps (the narrowphase, broadphase use them)
+COS, SIN = 25, 26
 DAMP_LINEAR, DAMP_ANGULAR = 27, 28  # exp(-drag h) for the substep h = DAMP_H
 DAMP_H = 29  # the substep the factors are for (0: recompute them)
 BODY_F = 30
@@ -99,6 +108,16 @@ CONTACT_F = 11
 BODY_A, BODY_B, FEATURE = 0, 1, 2  # slots, and which vertex/face made the point
 CONTACT_I = 3
 
+# -- hulls: a polygon's outline in its body's frame, whose origin is the centre of mass ------
+VERTEX_COUNT = 0  # 2 (a capsule or segment) to MAX_VERTICES, as a float
+ROUNDING = 1  # radius (m) the outline is rounded by: every point within it is solid
+UNIT_MOMENT = 2  # moment of inertia per kg about the centre of mass (m^2)
+BOUND_RADIUS = 3  # farthest surface point from the centre of mass (m)
+VERTEX0 = 4  # vertex k at (VERTEX0 + 2k, VERTEX0 + 2k + 1), counter-clockwise (m)
+MAX_VERTICES = 8
+EDGE_NORMAL0 = VERTEX0 + 2 * MAX_VERTICES  # unit outward normal of the edge from vertex k to k + 1
+HULL_F = EDGE_NORMAL0 + 2 * MAX_VERTICES
+
 # -- per world --------------------------------------------------------------------------------
 CONTACT_COUNT, STEPS = 0, 1
 WORLD_I = 2
@@ -126,6 +145,7 @@ class WorldState:
     contact_i: np.ndarray
     world_i: np.ndarray
     time: np.ndarray
+    hull: np.ndarray
 
     def __setattr__(self, name: str, value: object) -> None:
         # Every replaced array (a grown one, a put-back one) counts up ``generation``, so a
@@ -148,6 +168,7 @@ class WorldState:
             contact_i=np.zeros((batch, contacts, CONTACT_I), np.int64),
             world_i=np.zeros((batch, WORLD_I), np.int64),
             time=np.zeros(batch),
+            hull=np.zeros((batch, 1, HULL_F)),
         )
 
     @property
@@ -179,9 +200,17 @@ class WorldState:
         body[:, :old], body_i[:, :old] = self.body, self.body_i
         body_i[:, :, SAP_ORDER] = np.arange(capacity)
         self.body, self.body_i = body, body_i
+        if self.hull.shape[1] == old:  # a row a slot already (or one slot, one spare row)
+            self.grow_rows("hull", capacity)
+
+    def make_hulls(self) -> None:
+        """Give ``hull`` a row for every body slot (the first polygon needs them)."""
+        if self.hull.shape[1] < self.body.shape[1]:
+            self.grow_rows("hull", self.body.shape[1])
 
     def grow_rows(self, name: str, capacity: int) -> None:
-        """Room for ``capacity`` rows in ``spring``, ``sensor`` or the contact arrays."""
+        """Room for ``capacity`` rows in ``spring``, ``sensor``, ``hull`` or the contact
+        arrays."""
         names = ("contact", "contact_i") if name == "contact" else (name,)
         for array_name in names:
             old = getattr(self, array_name)
