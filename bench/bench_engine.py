@@ -67,7 +67,7 @@ from impulse2d.core.runner import available_threads
 # _pool_world and _pyramid_world are re-exported: bench_render.py and solver_choice.py import
 # these world builders from here.
 try:  # imported as part of the repo (``bench.bench_engine``) ...
-    from bench import box2d_peer, engine_rows, profile_step
+    from bench import box2d_peer, box2d_scenes, engine_rows, profile_step
     from bench.engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
     from bench.engine_runs import (
         POOL_RESTITUTION_THRESHOLD,
@@ -84,6 +84,7 @@ try:  # imported as part of the repo (``bench.bench_engine``) ...
     from bench.scenes import LATERAL_CREEP_M, large_pyramid, pool_break, pyramid, rain, validate
 except ImportError:  # ... or run as a script, with bench/ on sys.path
     import box2d_peer
+    import box2d_scenes
     import engine_rows
     import profile_step
     from engine_rows import PYMUNK_SINGLE_REPEATS, PYRAMID_REPEATS, Plan, Row, Runs
@@ -123,6 +124,12 @@ def _parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--budget", type=float, default=BATCH_BUDGET_S, help="seconds per impulse2d batch run"
     )
     parser.add_argument("--positions", action="store_true", help="print final ball positions")
+    parser.add_argument(
+        "--no-box2d-scenes",
+        action="store_true",
+        help="skip Box2D's shape and joint scenes (joint_grid, smash, tumbler, spinner, "
+        "many_pyramids: bench/box2d_scenes.py; minutes at full size)",
+    )
     parser.add_argument(
         "--no-large",
         action="store_true",
@@ -322,6 +329,8 @@ def main(argv: list[str] | None = None) -> None:
     engine_rows.rains(plan, rows)
     engine_rows.settled_rain(plan, rows)
     engine_rows.large_pyramid(plan, rows)
+    if not args.no_box2d_scenes:
+        rows += box2d_scenes.rows(plan.quick, progress=_stage)
     _print_results(plan, rows, imp, pm1)
     print(
         f"\ntotal wall time {time.perf_counter() - t_start:.1f} s; load average "

@@ -89,7 +89,8 @@ def bytes_per_world() -> int:
     state = sum(a.nbytes for a in world.state.arrays().values()) // 2
     bodies, contacts = world.state.body.shape[1], world.state.contact_capacity
     scratch = sum(row_sizes(bodies, contacts, world._runner.pair_capacity)) * 8
-    return 2 * state + scratch + sum(refusal.undo_sizes(bodies, contacts)) * 8
+    springs = world.state.spring.shape[1]
+    return 2 * state + scratch + sum(refusal.undo_sizes(bodies, contacts, springs)) * 8
 
 
 def fits(worlds: int, per_world: int) -> tuple[bool, float]:

@@ -120,6 +120,10 @@ def scene(batch_size: int = 1) -> tuple[p2.World, dict[str, Any]]:
         "sensor": world.add(p2.Sensor(position=(5.0, 5.0), radius=1.0)),
         "polygon": world.add(p2.Polygon(vertices=TRIANGLE, position=(4.0, 0.5))),
     }
+    parts["revolute"] = world.add(
+        p2.RevoluteJoint(parts["box"], parts["polygon"], lower_angle=-1.0, upper_angle=1.0)
+    )
+    parts["mouse"] = world.add(p2.MouseJoint(parts["polygon"], target=(4.0, 1.0)))
     parts["spring"] = world.add(p2.Spring(parts["circle"], parts["box"], stiffness=10.0))
     return world, parts
 
@@ -154,6 +158,55 @@ def _make(cls: type, name: str, **base: Any) -> Callable[[Any], p2.World]:
         return world
 
     return give
+
+
+def _joint(cls: type, name: str, **base: Any) -> Callable[[Any], p2.World]:
+    """``cls(box, polygon, **{name: value})`` added to the scene (a mouse joint: on the
+    polygon alone)."""
+
+    def give(value: Any) -> p2.World:
+        world, parts = scene()
+        bodies = (parts["polygon"],) if cls is p2.MouseJoint else (parts["box"], parts["polygon"])
+        world.add(cls(*bodies, **{**base, name: value}))
+        return world
+
+    return give
+
+
+JOINT_ENTRIES = (
+    (p2.RevoluteJoint, {"lower_angle": {"upper_angle": 1.0}, "upper_angle": {"lower_angle": -1.0},
+                        "motor_speed": {}, "max_motor_torque": {}, "spring_hertz": {},
+                        "spring_damping_ratio": {}}, ("anchor",)),
+    (p2.PrismaticJoint, {"motor_speed": {}, "max_motor_force": {}, "spring_hertz": {},
+                         "lower_translation": {"upper_translation": 1.0}}, ("anchor", "axis")),
+    (p2.WeldJoint, {"hertz": {}, "damping_ratio": {}}, ("anchor",)),
+    (p2.DistanceJoint, {"length": {}, "min_length": {"max_length": 5.0}, "spring_hertz": {}},
+     ("anchor1", "anchor2")),
+    (p2.MouseJoint, {"hertz": {}, "max_force": {}, "damping_ratio": {}}, ()),
+)  # fmt: skip
+
+
+def _joint_entries(e: list[Entry]) -> None:
+    for cls, reals, vectors in JOINT_ENTRIES:
+        base = {"target": (4.0, 1.0)} if cls is p2.MouseJoint else {}
+        for name, more in reals.items():
+            give = _joint(cls, name, **base, **more)
+            default = name in ("length", "min_length", "max_force")  # None: the default
+            e.append(Entry(f"{cls.__name__}()", name, "real", give, none_is_legal=default))
+        for name in vectors:
+            legal = name != "axis"  # None: a default point
+            entry = Entry(
+                f"{cls.__name__}()", name, "vector", _joint(cls, name), none_is_legal=legal
+            )
+            e.append(entry)
+        e.append(Entry(f"{cls.__name__}()", "break_force", "real",
+                       _joint(cls, "break_force", **base), inf_is_legal=True))  # fmt: skip
+    grab = _joint(p2.MouseJoint, "target")  # None: the body's centre
+    e.append(Entry("MouseJoint()", "target", "vector", grab, none_is_legal=True))
+    for name in ("motor_speed", "max_motor_torque", "spring_hertz", "lower_angle", "upper_angle"):
+        e.append(Entry("revolute", name, "real", _set("revolute", name)))
+    e.append(Entry("mouse", "target", "vector", _set("mouse", "target")))
+    e.append(Entry("mouse", "max_force", "real", _set("mouse", "max_force")))
 
 
 def _placed(vertices: Any) -> p2.World:
@@ -302,6 +355,7 @@ def _entries() -> list[Entry]:
         e.append(Entry("Segment()", name, "vector", _make(p2.Segment, name, **segment)))
     for name in ("radius", "restitution", "friction"):
         e.append(Entry("Segment()", name, "real", _make(p2.Segment, name, **segment)))
+    _joint_entries(e)
     e.append(Entry("kinematic", "velocity", "vector", _set("kinematic", "velocity")))
     e.append(Entry("kinematic", "angular_velocity", "real", _set("kinematic", "angular_velocity")))
     for kind in ("circle", "box"):

@@ -41,7 +41,7 @@ def _state(world: p2.World) -> np.ndarray:
 def test_names_and_descriptions_are_unique_and_well_formed():
     """Names are short lowercase-hyphenated and unique, descriptions one non-empty line each,
     the dict keys are the scenes' names, and times and views are sensible."""
-    assert len(NAMES) == 20
+    assert len(NAMES) == 24
     descriptions = [s.description for s in demo.SCENES.values()]
     assert len(set(descriptions)) == len(descriptions)
     for name, scene in demo.SCENES.items():
@@ -379,3 +379,66 @@ def test_slingshot_knocks_the_pig_off():
     pig = _solids(world)[-2]
     _run(scene, world, scene.seconds)
     assert pig.position[1] < 0.5
+
+
+def _ran(name: str) -> p2.World:
+    scene = demo.get(name)
+    world = scene.build()
+    for _ in range(scene.steps):
+        scene.step(world)
+    return world
+
+
+def test_polygon_pile_comes_to_rest_above_the_ground():
+    world = _ran("polygon-pile")
+    movers = [b for b in world.bodies if isinstance(b, (p2.Polygon, p2.Capsule))]
+    assert len(movers) == 40
+    assert max(float(np.hypot(*b.velocity)) for b in movers) < 0.05
+    assert min(float(b.position[1]) for b in movers) > 0.0
+
+
+def test_pendulum_chain_keeps_its_links_pinned_and_gains_no_energy():
+    """Every joint holds its two anchors within 1 cm, and the chain's energy never grows
+    past its start (1 %; it loses some where the folding chain strikes itself)."""
+    scene = demo.get("pendulum-chain")
+    world = scene.build()
+    start = world.energy().total
+    highest = start
+    for _ in range(scene.steps):
+        scene.step(world)
+        highest = max(highest, world.energy().total)
+    for joint in world.joints:
+        gap = np.atleast_2d(joint.body2.to_world(_anchor(joint, 2))) - np.atleast_2d(
+            joint.body1.to_world(_anchor(joint, 1))
+        )
+        assert float(np.hypot(*gap[0])) < 0.01
+    assert highest - start < 0.01 * (start - _lowest_energy(world))
+
+
+def _anchor(joint, end: int) -> np.ndarray:
+    row = joint.world.state.spring[0, joint.slot]
+    return row[0:2] if end == 1 else row[2:4]
+
+
+def _lowest_energy(world: p2.World) -> float:
+    """The chain's energy hanging straight down at rest: its potential then."""
+    links = [b for b in world.bodies if isinstance(b, p2.Capsule)]
+    return sum(
+        -b.mass * 9.81 * (0.5 * 0.5 * (2 * k + 1)) + b.mass * 9.81 * 6.0
+        for k, b in enumerate(links)
+    )
+
+
+def test_ragdolls_tumble_down_the_stairs_within_their_joint_limits():
+    world = _ran("ragdolls")
+    for joint in world.joints:
+        assert joint.lower_angle - 0.1 <= float(joint.angle) <= joint.upper_angle + 0.1
+    limbs = [b for b in world.bodies if isinstance(b, (p2.Capsule, p2.Circle)) and not b.fixed]
+    assert np.mean([float(b.position[0]) for b in limbs]) > 2.0
+
+
+def test_the_car_climbs_over_the_hill_upright():
+    world = _ran("car-hill")
+    car = next(b for b in world.bodies if isinstance(b, p2.Polygon))
+    assert float(car.position[0]) > 11.0
+    assert abs(float(car.angle)) < 1.0

@@ -98,7 +98,9 @@ def test_save_then_restore_puts_a_world_back_bitwise() -> None:
     assert world.contacts().size > 0
     saved = world.snapshot()
     state = world.state
-    floats, ints = refusal.undo_sizes(state.body.shape[1], state.contact_capacity)
+    floats, ints = refusal.undo_sizes(
+        state.body.shape[1], state.contact_capacity, state.spring.shape[1]
+    )
     undo = np.full((2, floats), -7.0), np.full((2, ints), -7, np.int64)
     refusal.save_world(tuple(state.arrays().values()), world.layout.shapes, *undo, 1)
     world.step(DT, steps=30)

@@ -130,3 +130,26 @@ def test_without_a_display_it_says_so():
     if sys.platform.startswith("linux"):
         assert done.returncode != 0
         assert "no display" in done.stderr
+
+
+def test_right_drag_holds_a_body_with_a_mouse_joint(sandbox):
+    """Pressing the right button on a body holds it with a MouseJoint; moving the mouse
+    moves the joint's target and the body follows it (within 5 cm after 1.5 s); letting
+    go removes the joint."""
+    body = next(b for b in sandbox.world.bodies if not b.fixed and hasattr(b, "radius"))
+    start = _pixel(sandbox, body.position)
+    end = (start[0] + 30, start[1] - 25)
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, pos=start, button=3))
+    pygame.event.post(
+        pygame.event.Event(pygame.MOUSEMOTION, pos=end, rel=(0, 0), buttons=(0, 0, 1))
+    )
+    sandbox.run(max_frames=1)
+    joint = sandbox.held
+    assert joint is not None and joint.body is body and sandbox.world.joints == [joint]
+    target = sandbox.world_point(end)
+    np.testing.assert_allclose(joint.target, target)
+    sandbox.run(max_frames=round(1.5 / sandbox.scene.dt))
+    assert np.hypot(*(np.asarray(body.position) - target)) < 0.05
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, pos=end, button=3))
+    sandbox.run(max_frames=1)
+    assert sandbox.held is None and sandbox.world.joints == []

@@ -19,6 +19,7 @@ does; ``IMPULSE2D_QUIET=1`` silences it.
 
 from . import _compile_notice
 from .envelope import EnvelopeError
+from .joints import DistanceJoint, MouseJoint, PrismaticJoint, RevoluteJoint, WeldJoint
 from .polygons import Capsule, Polygon, Segment
 from .readouts import ContactPoints, Energy
 from .sensors import Sensor
@@ -32,14 +33,19 @@ __all__ = [
     "Capsule",
     "Circle",
     "ContactPoints",
+    "DistanceJoint",
     "Energy",
     "EnvelopeError",
+    "MouseJoint",
     "Plane",
     "Polygon",
+    "PrismaticJoint",
+    "RevoluteJoint",
     "Segment",
     "Sensor",
     "Snapshot",
     "Spring",
+    "WeldJoint",
     "World",
 ]
 __version__ = "0.3.0"

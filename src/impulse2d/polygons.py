@@ -162,7 +162,24 @@ class Polygon(_Outline):
         return np.stack(points, axis=-2)
 
 
-class Capsule(_Outline):
+class _Rod(_Outline):
+    """What Capsule and Segment share: an outline of two vertices ``length`` apart along
+    the body's x axis, about its centre."""
+
+    _length: float
+
+    def _set_rod(self, length: float, radius: float) -> None:
+        self._length = length
+        ends = np.array([[-0.5 * length, 0.0], [0.5 * length, 0.0]])
+        self._set_outline(ends, radius, capsule_unit_moment(length, radius))
+
+    @property
+    def length(self) -> float:
+        """Length of the core segment (m); the shape reaches ``radius`` beyond its ends."""
+        return self._length
+
+
+class Capsule(_Rod):
     """A solid capsule: the points within ``radius`` (m) of a segment of ``length`` (m)
     along the body's x axis, centred on ``position``. Mass properties are exact (a
     rectangle and two half discs). All other keywords as in :class:`Body`.
@@ -175,14 +192,7 @@ class Capsule(_Outline):
         low, high = envelope.SIZE
         _checks.within("length", length, geometry.MIN_EDGE, high, unit=" m")
         _checks.within("radius", radius, 0.5 * low, high, unit=" m")
-        self._length = length
-        ends = np.array([[-0.5 * length, 0.0], [0.5 * length, 0.0]])
-        self._set_outline(ends, radius, capsule_unit_moment(length, radius))
-
-    @property
-    def length(self) -> float:
-        """Length of the core segment (m); the capsule is ``length + 2 radius`` long."""
-        return self._length
+        self._set_rod(length, radius)
 
 
 def capsule_unit_moment(length: float, radius: float) -> float:
@@ -203,7 +213,7 @@ def capsule_unit_moment(length: float, radius: float) -> float:
     return moment / (rect + 2.0 * half)
 
 
-class Segment(_Outline):
+class Segment(_Rod):
     """A fixed (or kinematic) line from ``start`` to ``end`` (m, world points when made),
     rounded by ``radius`` (m, default 0): terrain, a ramp, a wall. It is a capsule with
     its centre at the middle; it cannot be dynamic (a line has no area to give it a
@@ -231,11 +241,4 @@ class Segment(_Outline):
         super().__init__(
             position=0.5 * (a + b), angle=angle, fixed=not kinematic, kinematic=kinematic, **body
         )
-        self._length = length
-        ends = np.array([[-0.5 * length, 0.0], [0.5 * length, 0.0]])
-        self._set_outline(ends, radius, capsule_unit_moment(length, radius))
-
-    @property
-    def length(self) -> float:
-        """Distance from start to end (m)."""
-        return self._length
+        self._set_rod(length, radius)

@@ -30,6 +30,7 @@ from .core.state import (
     GROSS_IMPULSE,
     HALF_H,
     HALF_W,
+    LINK,
     MASS,
     MOMENT,
     OMEGA,
@@ -39,6 +40,7 @@ from .core.state import (
     POLYGON,
     REST_LENGTH,
     SEPARATION,
+    SPRING,
     SPRING_ON,
     STEP_IMPULSE,
     STIFFNESS,
@@ -133,6 +135,7 @@ def energy(state: WorldState, layout: Layout, gravity: np.ndarray) -> Energy:
     potential = -(mass * (gravity[0] * body[:, :, X] + gravity[1] * body[:, :, Y])).sum(axis=1)
     ends = layout.springs
     on = (ends[:, 0] >= 0)[None, :] & (state.spring[:, :, SPRING_ON] == 1.0)
+    on &= state.spring[:, :, LINK] == SPRING  # joints store no energy of their own
     a, b = np.maximum(ends[:, 0], 0), np.maximum(ends[:, 1], 0)
     on &= (state.body_i[:, a, ENABLED] == 1) & (state.body_i[:, b, ENABLED] == 1)
     stretch = spring_lengths(state, layout) - state.spring[:, :, REST_LENGTH]

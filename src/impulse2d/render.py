@@ -29,6 +29,9 @@ import numpy as np
 from . import _checks
 from . import _raster as raster
 from .core.state import (
+    ANCHOR_AX,
+    ANCHOR_AY,
+    ANCHOR_BX,
     ANGLE,
     AWAKE,
     BOUND,
@@ -40,11 +43,14 @@ from .core.state import (
     HALF_H,
     HALF_W,
     KINEMATIC,
+    LINK,
+    MOUSE,
     NORMAL_X,
     NORMAL_Y,
     PLANE,
     POLYGON,
     ROUNDING,
+    SPRING_ON,
     VERTEX0,
     VERTEX_COUNT,
     VX,
@@ -308,6 +314,31 @@ class Renderer:
             x0, y0 = self._px(float(a[0]), float(a[1]))
             x1, y1 = self._px(float(b[0]), float(b[1]))
             _zigzag(canvas, x0, y0, x1, y1, colour)
+        self._draw_joints(canvas, world, index, colour)
+
+    def _draw_joints(self, canvas: np.ndarray, world: World, index: int, colour: Any) -> None:
+        """Each joint that acts: a line from each body's centre to its anchor, and a dot
+        on the anchors (a mouse joint: its line to the target)."""
+        state = world.state
+        for joint in world.joints:
+            row = state.spring[index, joint.slot]
+            if row[SPRING_ON] != 1.0:
+                continue
+            ends = []
+            for body, column in ((joint.body1, ANCHOR_AX), (joint.body2, ANCHOR_BX)):
+                body_row = state.body[index, body.slot]
+                c, s = math.cos(body_row[ANGLE]), math.sin(body_row[ANGLE])
+                lx, ly = row[column], row[column + 1]
+                anchor = (body_row[X] + c * lx - s * ly, body_row[Y] + s * lx + c * ly)
+                ends.append((self._px(body_row[X], body_row[Y]), self._px(*anchor)))
+            if row[LINK] == MOUSE:
+                target = self._px(row[ANCHOR_AX], row[ANCHOR_AY])
+                raster.segment(canvas, *ends[1][1], *target, 1.5, colour)
+                continue
+            for centre, anchor in ends:
+                raster.segment(canvas, *centre, *anchor, 1.5, colour)
+            for _, anchor in ends:
+                raster.disc(canvas, *anchor, 2.5, colour)
 
     def _draw_contacts(self, canvas: np.ndarray, world: World, index: int) -> None:
         contacts = world.contacts(index)

@@ -30,6 +30,9 @@ from .core.context import (
     HARD_IMPULSE,
     HARD_RATE,
     INV_H,
+    JOINT_DAMPING_RATIO,
+    JOINT_IMPULSE,
+    JOINT_RATE,
     MIXING_RULES,
     PUSH_SPEED,
     RESTITUTION_RULE,
@@ -179,6 +182,7 @@ class Settings:
         ctx[HARD_RATE : HARD_IMPULSE + 1] = soft_constraint(
             2.0 * hertz, v["contact_damping_ratio"], h
         )
+        ctx[JOINT_RATE : JOINT_IMPULSE + 1] = soft_constraint(2.0 * hertz, JOINT_DAMPING_RATIO, h)
         ctx[PUSH_SPEED] = v["contact_push_speed"]
         ctx[RESTITUTION_THRESHOLD] = v["restitution_threshold"]
         ctx[SPECULATIVE] = v["speculative_distance"]

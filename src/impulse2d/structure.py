@@ -17,14 +17,21 @@ from .core.state import (
     ANGLE,
     AWAKE,
     BODY_I,
+    BREAK_FORCE,
     CIRCLE,
+    COLLIDE,
     DYNAMIC,
     ENABLED,
     FIXED,
     FREE,
     HALF_H,
     HALF_W,
+    JOINT_LIST,
+    LIMITED,
     LINEAR_DRAG,
+    LINK,
+    NEXT_AT_A,
+    NEXT_AT_B,
     NORMAL_X,
     NORMAL_Y,
     PLANE,
@@ -36,6 +43,7 @@ from .core.state import (
     body_defaults,
     grown,
 )
+from .joints import Joint
 from .polygons import inner_radius
 from .sensors import Sensor
 from .shapes import Body, Plane, _Slot
@@ -74,6 +82,8 @@ def add(world: World, obj: Any) -> Any:
     """Put ``obj`` in a free slot of every world (see ``World.add``)."""
     if isinstance(obj, Spring):
         return _add_spring(world, obj)
+    if isinstance(obj, Joint):
+        return _add_joint(world, obj)
     if isinstance(obj, Sensor):
         return _add_sensor(world, obj)
     if not isinstance(obj, (Body, Plane)):
@@ -119,10 +129,13 @@ def add(world: World, obj: Any) -> Any:
 
 def remove(world: World, obj: Any) -> None:
     """Take ``obj`` out of every world; it keeps its values (see ``World.remove``)."""
-    if not isinstance(obj, (_Slot, Spring, Sensor)) or obj._world is not world:
+    if not isinstance(obj, (_Slot, Spring, Joint, Sensor)) or obj._world is not world:
         raise ValueError(f"obj must be an object in this world, got {obj!r}")
     if isinstance(obj, Spring):
         _remove_spring(world, obj)
+        return
+    if isinstance(obj, Joint):
+        _remove_joint(world, obj)
         return
     if isinstance(obj, Sensor):
         values = {name: getattr(obj, name) for name in _sensor_names(obj)}
@@ -131,9 +144,12 @@ def remove(world: World, obj: Any) -> None:
         world.objects["sensors"][obj._slot] = None
         obj._world, obj._slot, obj._values = None, -1, values
         return
-    attached = [s for s in world.springs if obj in (s.body1, s.body2)]
+    links = [s for s in world.objects["springs"] if s is not None]
+    attached = [s for s in links if obj in (s.body1, s.body2)]
     if attached:
-        raise ValueError(f"{obj!r} is attached to {len(attached)} spring(s); remove them first")
+        raise ValueError(
+            f"{obj!r} is attached to {len(attached)} spring(s) or joint(s); remove them first"
+        )
     values = {name: getattr(obj, name) for name in obj._saved}
     slot = obj._slot
     everywhere = np.arange(world.batch_size)
@@ -186,6 +202,81 @@ def _remove_spring(world: World, spring: Spring) -> None:
     world.objects["springs"][spring._slot] = None
     edit.wake(world.state, world.layout, np.arange(world.batch_size), spring.body1.slot)
     spring._world, spring._slot, spring._values = None, -1, values
+
+
+def _add_joint(world: World, joint: Joint) -> Joint:
+    """A joint in a row of the spring table: its columns validated and written, the
+    anchors and reference angles its bodies' poses give in each world, and, unless the
+    joined bodies may collide, the row put at the head of both bodies' joint lists
+    (``core.joints.joined`` walks them)."""
+    if joint._world is not None:
+        raise ValueError(f"{joint!r} is already in a world; remove it first")
+    for name, body in (("body1", joint.body1), ("body2", joint.body2)):
+        if body._world is not world:
+            raise ValueError(f"{name} of the joint must be in this world; add it first")
+    values = joint._values
+    slot = _take_slot(world, "springs")
+    state = world.state
+    state.spring[:, slot] = 0.0
+    world.objects["springs"][slot] = joint
+    joint._world, joint._slot = world, slot
+    try:
+        for name in joint._names:
+            setattr(joint, name, values[name])
+    except ValueError:
+        world.objects["springs"][slot] = None
+        joint._world, joint._slot = None, -1
+        raise
+    row = state.spring[:, slot]
+    for column, array in joint._attach(world).items():
+        row[:, column : column + (array.shape[1] if array.ndim == 2 else 1)] = array.reshape(
+            world.batch_size, -1
+        )
+    row[:, LINK], row[:, SPRING_ON] = joint._link, 1.0
+    row[:, LIMITED] = 1.0 if getattr(joint, "_limited", False) else 0.0
+    row[:, BREAK_FORCE] = 0.0 if np.isinf(joint.break_force) else joint.break_force
+    row[:, COLLIDE] = 1.0 if joint.collide_connected else 0.0
+    a, b = joint.body1.slot, joint.body2.slot
+    world.layout.springs[slot] = a, b
+    row[:, NEXT_AT_A] = row[:, NEXT_AT_B] = -1.0
+    if not joint.collide_connected and a != b:
+        heads = state.body_i[:, :, JOINT_LIST]
+        row[:, NEXT_AT_A], row[:, NEXT_AT_B] = heads[:, a], heads[:, b]
+        heads[:, a] = heads[:, b] = slot
+    joint._values = {}
+    joint._wake()
+    return joint
+
+
+def _next_at(state: Any, layout: Any, row: int, body: int) -> np.ndarray:
+    column = NEXT_AT_A if layout.springs[row, 0] == body else NEXT_AT_B
+    return state.spring[:, row, column]
+
+
+def _unlink(world: World, slot: int) -> None:
+    """Take row ``slot`` out of both its bodies' joint lists (the same in every world)."""
+    state, layout = world.state, world.layout
+    for body in set(layout.springs[slot].tolist()):
+        previous, current = -1, int(state.body_i[0, body, JOINT_LIST])
+        while current != slot:
+            if current < 0:
+                return  # not linked (it lets its bodies collide)
+            previous, current = current, int(_next_at(state, layout, current, body)[0])
+        following = _next_at(state, layout, slot, body).copy()
+        if previous < 0:
+            state.body_i[:, body, JOINT_LIST] = following
+        else:
+            _next_at(state, layout, previous, body)[:] = following
+
+
+def _remove_joint(world: World, joint: Joint) -> None:
+    values = {name: getattr(joint, name) for name in joint._names}
+    joint._wake()
+    _unlink(world, joint._slot)
+    world.state.spring[:, joint._slot] = 0.0
+    world.layout.springs[joint._slot] = -1
+    world.objects["springs"][joint._slot] = None
+    joint._world, joint._slot, joint._values = None, -1, values
 
 
 def _sensor_names(sensor: Sensor) -> tuple[str, ...]:

@@ -26,13 +26,16 @@ from .core.state import (
     BODY_F,
     BODY_I,
     FIRST_CONTACT,
+    JOINT_LIST,
     SENSED,
     STEPS,
     Layout,
     WorldState,
 )
+from .joints import Joint
 from .readouts import ContactPoints, Energy
 from .settings import Settings
+from .springs import Spring
 
 # Readable names for ``World.array``: name -> (array, columns).
 ARRAYS: dict[str, tuple[str, Any]] = {
@@ -80,6 +83,7 @@ ARRAYS: dict[str, tuple[str, Any]] = {
         name: ("body_i", column)
         for column, name in enumerate(["enabled", "awake", "island", "sensed", "first_contact"])
     },
+    "joint_list": ("body_i", JOINT_LIST),  # after the broadphase's cache, SAP_ORDER
 }
 assert len([n for n, (a, _) in ARRAYS.items() if a == "body" and isinstance(_, int)]) == BODY_F
 assert len([n for n, (a, _) in ARRAYS.items() if a == "body_i"]) == BODY_I - 1
@@ -286,7 +290,12 @@ class World:
     @property
     def springs(self) -> list:
         """Every Spring in the world, in slot order."""
-        return [obj for obj in self.objects["springs"] if obj is not None]
+        return [obj for obj in self.objects["springs"] if isinstance(obj, Spring)]
+
+    @property
+    def joints(self) -> list:
+        """Every joint in the world (``impulse2d.joints``), in slot order."""
+        return [obj for obj in self.objects["springs"] if isinstance(obj, Joint)]
 
     @property
     def sensors(self) -> list:
@@ -565,6 +574,6 @@ class World:
                     twin._world = clone
                     twins[id(obj)] = twin
                 clone.objects[kind].append(twin)
-        for spring in clone.springs:
-            spring.body1, spring.body2 = twins[id(spring.body1)], twins[id(spring.body2)]
+        for link in clone.springs + clone.joints:
+            link.body1, link.body2 = twins[id(link.body1)], twins[id(link.body2)]
         return clone

@@ -39,6 +39,31 @@ def build(device: str = "cpu") -> p2.World:
     world.add(p2.Polygon(vertices=hexagon, radius=0.03, position=(-2.4, 1.6), angular_velocity=2.0))
     world.add(p2.Capsule(length=0.4, radius=0.12, position=(0.9, 0.4), velocity=(1.0, 0.0)))
     world.add(p2.Polygon(vertices=[(0, 0), (1.2, 0), (1.2, 0.1), (0, 0.1)], position=(-0.5, 1.8)))
+    # Joints: a chain of capsules from a fixed hook, a breakable weld, a motor-driven
+    # slider with limits, a rope and a mouse joint's drag.
+    hook = world.add(p2.Circle(position=(4.0, 3.0), radius=0.05, fixed=True))
+    links, previous = [], hook
+    for k in range(3):
+        link = world.add(p2.Capsule(length=0.4, radius=0.06, position=(4.25 + 0.5 * k, 3.0)))
+        world.add(p2.RevoluteJoint(previous, link, anchor=(4.0 + 0.5 * k, 3.0)))
+        links.append(link)
+        previous = link
+    world.add(p2.WeldJoint(world.bodies[3], world.bodies[4], anchor=(0.15, 0.5), break_force=30.0))
+    rail = world.add(p2.Box(position=(6.0, 0.5), width=0.2, height=0.2, fixed=True))
+    cart = world.add(p2.Box(position=(6.0, 1.0), width=0.4, height=0.2))
+    world.add(
+        p2.PrismaticJoint(
+            rail,
+            cart,
+            axis=(1.0, 0.2),
+            lower_translation=-0.5,
+            upper_translation=0.5,
+            motor_speed=1.0,
+            max_motor_force=20.0,
+        )
+    )
+    world.add(p2.DistanceJoint(hook, links[-1], min_length=0.0))
+    world.add(p2.MouseJoint(cart, target=(6.0, 1.0)))
     del kick, shelf
     return world
 
@@ -69,6 +94,7 @@ def main(path: str, device: str = "cpu") -> None:
         world_i=s.world_i,
         time=s.time,
         hull=s.hull,
+        spring=s.spring,
         steps=steps,
     )
 

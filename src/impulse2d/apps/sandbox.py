@@ -6,6 +6,9 @@ application has them:
 * drag with the mouse from a body and release: an impulse along the drag at the point
   where you pressed (the tutorial's cue stick; the cue is drawn while you drag). The
   impulse gives the body ``CUE_GAIN`` times the drag length in metres per second;
+* drag with the right button: the body under the pointer follows it, held by a mouse
+  joint (``impulse2d.MouseJoint``, Box2D's: a soft spring with a force limit) until you
+  let go;
 * ``P`` restarts the scene, ``Space`` pauses, ``.`` steps once while paused;
 * ``Tab`` / ``Right`` next scene, ``Shift+Tab`` / ``Left`` previous, ``D`` debug overlays;
 * ``Esc`` or ``Q`` quits.
@@ -24,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from .. import _raster as raster
+from ..joints import MouseJoint
 from ..render import Camera, Renderer
 from .demo import SCENES, Scene, get
 
@@ -72,6 +76,7 @@ class Sandbox:
         self.debug = False
         self.press: tuple[float, float] | None = None  # pixel where a drag started
         self.mouse = (0.0, 0.0)
+        self.held: Any = None  # the mouse joint of a right-button drag
         self.load(scene)
 
     # -- scenes ------------------------------------------------------------------------------
@@ -85,7 +90,7 @@ class Sandbox:
         debug = ("contacts", "velocities") if self.debug else ()
         self.renderer = Renderer(self.width, self.height, camera=camera, debug=debug)
         self.renderer.render(self.world)  # fixes the camera before any click maps through it
-        self.press = None
+        self.press, self.held = None, None
 
     def cycle(self, offset: int) -> None:
         index = (self.names.index(self.scene.name) + offset) % len(self.names)
@@ -121,8 +126,14 @@ class Sandbox:
                 self.renderer.debug = frozenset(("contacts", "velocities") if self.debug else ())
         elif event.type == pygame.MOUSEBUTTONDOWN and event.button == 1:
             self.press = self.mouse = tuple(map(float, event.pos))
+        elif event.type == pygame.MOUSEBUTTONDOWN and event.button == 3:
+            self.grab(tuple(map(float, event.pos)))
+        elif event.type == pygame.MOUSEBUTTONUP and event.button == 3:
+            self.release()
         elif event.type == pygame.MOUSEMOTION:
             self.mouse = tuple(map(float, event.pos))
+            if self.held is not None:
+                self.held.target = self.world_point(self.mouse)
         elif event.type == pygame.MOUSEBUTTONUP and event.button == 1 and self.press:
             self.mouse = tuple(map(float, event.pos))
             self.cue(self.press, self.mouse)
@@ -141,6 +152,22 @@ class Sandbox:
             return None
         body.apply_impulse(CUE_GAIN * body.mass * (end - start), point=start)
         return body
+
+    def grab(self, pixel: tuple[float, float]) -> Any:
+        """Hold the dynamic body under ``pixel`` with a mouse joint (returns it, or None)."""
+        self.release()
+        point = self.world_point(pixel)
+        bodies = [b for b in self.world.query_point(point) if not (b.fixed or b.kinematic)]
+        if not bodies:
+            return None
+        self.held = self.world.add(MouseJoint(bodies[-1], target=point))
+        return self.held
+
+    def release(self) -> None:
+        """Let go of a held body."""
+        if self.held is not None:
+            self.world.remove(self.held)
+            self.held = None
 
     # -- frames ------------------------------------------------------------------------------
     def update(self) -> None:
@@ -166,8 +193,8 @@ class Sandbox:
             f"kinetic {energy.kinetic_linear:8.2f} J  rotational {energy.kinetic_rotational:8.2f}"
             f" J  potential {energy.potential:8.2f} J  elastic {energy.elastic:8.2f} J"
             f"  total {energy.total:8.2f} J",
-            "drag from a body: cue   P restart   Space pause   . step   Tab/arrows scene"
-            "   D debug   Q quit",
+            "drag from a body: cue   right-drag: hold   P restart   Space pause   . step"
+            "   Tab/arrows scene   D debug   Q quit",
         ]
         for row, text in enumerate(lines):
             label = self.font.render(text[:150], True, (235, 235, 235))

@@ -20,7 +20,11 @@ SLEEPING, TIME_TO_SLEEP, SLEEP_SPEED = 15, 16, 17
 DAMAGE_SPEED = 18
 RESTITUTION_RULE, FRICTION_RULE = 19, 20
 COLOUR_FROM = 21  # a world of this many points a step or more is coloured (colouring.py)
-CONTEXT_SIZE = 22
+JOINT_RATE, JOINT_MASS, JOINT_IMPULSE = 22, 23, 24  # a rigid joint's softness (joints.py)
+CONTEXT_SIZE = 25
+# A rigid joint is as soft as a spring of twice the contact frequency with this damping
+# ratio (Box2D v3's joint softness): stiff enough to hold, soft enough not to ring.
+JOINT_DAMPING_RATIO = 2.0
 
 
 def soft_constraint(hertz: float, damping_ratio: float, h: float) -> tuple[float, float, float]:

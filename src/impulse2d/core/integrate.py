@@ -51,12 +51,14 @@ from .state import (
     INV_MASS,
     INV_MOMENT,
     LINEAR_DRAG,
+    LINK,
     OMEGA,
     PLANE,
     POLYGON,
     REST_LENGTH,
     ROLLING,
     SIN,
+    SPRING,
     SPRING_ON,
     STIFFNESS,
     TORQUE,
@@ -154,8 +156,8 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
     plane in one step; the contacts are made from this reach, so the plane is there."""
     dt = ctx[context.DT]
     for k in range(ends.shape[0]):
-        if not spring_acts(body_i, spring, ends, w, k):
-            continue
+        if not spring_acts(body_i, spring, ends, w, k) or spring[w, k, LINK] != SPRING:
+            continue  # a joint is a constraint (joints.py), not a force
         a, b = ends[k, 0], ends[k, 1]
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
         along = spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy)
@@ -281,8 +283,9 @@ def spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy) -> float:
 
 @kernel
 def spring_acts(body_i, spring, ends, w, k) -> bool:
-    """Spring slot ``k`` is used, on, and joins two enabled bodies. (Written with ``&``,
-    without branches: a helper that branches costs numba reference counting per call.)"""
+    """Spring slot ``k`` (a spring or a joint) is used, on, and joins two enabled bodies:
+    it joins their islands. (Written with ``&``, without branches: a helper that
+    branches costs numba reference counting per call.)"""
     a, b = ends[k, 0], ends[k, 1]
     return (
         (a >= 0)
@@ -296,8 +299,8 @@ def spring_acts(body_i, spring, ends, w, k) -> bool:
 def apply_springs(body, body_i, spring, ends, w, terms, h) -> None:
     """Every spring's force over one substep, as a change of velocity."""
     for k in range(ends.shape[0]):
-        if not spring_acts(body_i, spring, ends, w, k):
-            continue
+        if not spring_acts(body_i, spring, ends, w, k) or spring[w, k, LINK] != SPRING:
+            continue  # a joint is a constraint (joints.py), not a force
         a, b = ends[k, 0], ends[k, 1]
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
         along = spring_speed(body, w, a, b, rax, ray, rbx, rby, ux, uy)
@@ -325,8 +328,8 @@ def spring_stability(body, body_i, spring, ends, w, terms, h):
     allocate."""
     worst, measure, fast = -1, 0.0, -1
     for k in range(ends.shape[0]):
-        if not spring_acts(body_i, spring, ends, w, k):
-            continue
+        if not spring_acts(body_i, spring, ends, w, k) or spring[w, k, LINK] != SPRING:
+            continue  # a joint is a constraint (joints.py), not a force
         a, b = ends[k, 0], ends[k, 1]
         rax, ray, rbx, rby, ux, uy, length = spring_geometry(body, spring, ends, w, k)
         ca, cb = rax * uy - ray * ux, rbx * uy - rby * ux

@@ -49,6 +49,7 @@ from .integrate import (
     spring_stability,
     step_terms,
 )
+from .joints import drop_joined_pairs, finish_joints, solve_joints, warm_start_joints
 from .lanes import (
     follow_coloured,
     load_moving,
@@ -137,6 +138,8 @@ def collide_and_wake(body, body_i, shapes, spring, ends, hull, w, ctx, scratch, 
         if n_pairs > pairs.shape[0]:
             plan_row[NEED_PAIRS] = n_pairs
             return -1
+        if ends.shape[0]:
+            n_pairs = drop_joined_pairs(body_i, spring, ends, w, pairs, n_pairs)
         n = find_points(body, hull, shapes, w, ctx, terms, pairs, n_pairs, points, ids)
         if n > points.shape[0]:
             plan_row[NEED_POINTS] = n
@@ -161,7 +164,8 @@ def colour(ctx, scratch, n) -> int:
 @inline
 def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving) -> None:
     """Box2D v3's soft step: per substep integrate velocities, warm start, solve with the
-    soft bias, integrate positions, relax without it; then restitution once. A coloured
+    soft bias, integrate positions, relax without it (the joints before the contacts in
+    each pass, ``joints.py``); then restitution once, and the joints' forces and breaks. A coloured
     world's ``coloured`` manifolds live in their own columns over the substeps, warm
     started, solved and their anchors moved there (``lanes.py``), their passes on the
     bodies' compact ``states`` (loaded before, stored after); the other points
@@ -178,12 +182,16 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     slots = scratch.moving
     if coloured:  # the rows of the bodies that do not move, for the whole step
         load_states(body, w, terms, states)
+    links = ends.shape[0] > 0  # springs or joints
     for substep in range(count):
         integrate_velocities(body, w, terms, slots, n_moving)
-        if ends.shape[0]:
+        if links:
             apply_springs(body, body_i, spring, ends, w, terms, h)
+            warm_start_joints(body, body_i, spring, ends, w, terms)
         if rest:
             warm_start(body, w, points, ids, n, coloured > 0)
+        if links:
+            solve_joints(body, body_i, spring, ends, w, ctx, terms, True)
         if coloured:
             load_moving(body, w, terms, states, slots, n_moving)
             warm_start_coloured(states, ids, floats, ints, coloured)
@@ -191,6 +199,8 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
             store_states(body, w, states, slots, n_moving)
         solve(body, w, ctx, terms, points, ids, n, rest)
         integrate_positions(body, w, h, slots, n_moving)
+        if links:
+            solve_joints(body, body_i, spring, ends, w, ctx, terms, False)
         if rest:
             follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
         if coloured:
@@ -202,6 +212,8 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     if coloured:  # the coloured points' impulses, back where the rest read them
         unpack_step(points, floats, ints, coloured)
     restitution(body, w, ctx, terms, points, ids, n)
+    if links:
+        finish_joints(body, body_i, spring, ends, w, ctx)
 
 
 @inline

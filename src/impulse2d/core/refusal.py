@@ -22,7 +22,9 @@ columns are saved for the slots up to the last one in use, integer rows for ever
 (the broadphase's ``SAP_ORDER`` column orders all of them). Undo rows, one per world of
 the batch, laid out for ``N`` body slots and ``C`` contact rows::
 
-    floats (B, 1 + N * SAVED_BODY_F + C * CONTACT_F): time, body rows, contact rows
+    floats (B, 1 + N * SAVED_BODY_F + S * SAVED_SPRING_F + C * CONTACT_F): time, body
+        rows, the spring table's rows (what a joint writes: on, impulses, forces),
+        contact rows
     ints   (B, WORLD_I + N * BODY_I + C * CONTACT_I): world_i, body_i rows, contact_i rows
 
 Two arrays, ``undo_floats`` and ``undo_ints``, each world's row holding its parts one
@@ -44,9 +46,12 @@ from .state import (
     CONTACT_I,
     ENABLED,
     FREE,
+    IMPULSE_X,
+    JOINT_TORQUE,
     OMEGA,
     PLANE,
     SLEEP_TIME,
+    SPRING_ON,
     TORQUE,
     VX,
     VY,
@@ -63,11 +68,13 @@ _SPEED_SQUARED = envelope.SPEED * envelope.SPEED
 # Saved per body: the columns X to TORQUE and SLEEP_TIME to the end.
 SAVED_BODY_F = TORQUE + 1 + BODY_F - SLEEP_TIME
 _COLD = SLEEP_TIME - (TORQUE + 1)  # the columns between, not saved
+# Saved per row of the spring table: SPRING_ON (a joint breaks) and the impulses and forces.
+SAVED_SPRING_F = 1 + JOINT_TORQUE + 1 - IMPULSE_X
 
 
-def undo_sizes(bodies: int, contacts: int) -> tuple[int, int]:
+def undo_sizes(bodies: int, contacts: int, springs: int = 0) -> tuple[int, int]:
     """Lengths of the float and the int part of one world's undo row."""
-    floats = 1 + bodies * SAVED_BODY_F + contacts * CONTACT_F
+    floats = 1 + bodies * SAVED_BODY_F + springs * SAVED_SPRING_F + contacts * CONTACT_F
     return floats, WORLD_I + bodies * BODY_I + contacts * CONTACT_I
 
 
@@ -84,7 +91,7 @@ def _slots_in_use(shapes) -> int:
 def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Copy what a step of world ``w`` can change into its undo rows. (Scalar loops: on
     rows this short, numba's slice copies cost more than the copying.)"""
-    body, body_i, _, _, contact, contact_i, world_i, time, _ = state
+    body, body_i, spring, _, contact, contact_i, world_i, time, _ = state
     floats, ints = undo_floats[w], undo_ints[w]
     floats[0] = time[w]
     at = 1
@@ -94,6 +101,11 @@ def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
         for column in range(SLEEP_TIME, BODY_F):
             floats[at + column - _COLD] = body[w, i, column]
         at += SAVED_BODY_F
+    for k in range(spring.shape[1]):
+        floats[at] = spring[w, k, SPRING_ON]
+        for column in range(IMPULSE_X, JOINT_TORQUE + 1):
+            floats[at + 1 + column - IMPULSE_X] = spring[w, k, column]
+        at += SAVED_SPRING_F
     for j in range(world_i[w, CONTACT_COUNT]):
         for column in range(CONTACT_F):
             floats[at + column] = contact[w, j, column]
@@ -115,7 +127,7 @@ def save_world(state, shapes, undo_floats, undo_ints, w) -> None:
 def restore_world(state, shapes, undo_floats, undo_ints, w) -> None:
     """Put world ``w`` back as ``save_world`` found it (the contact arrays have the
     capacity they had then)."""
-    body, body_i, _, _, contact, contact_i, world_i, time, _ = state
+    body, body_i, spring, _, contact, contact_i, world_i, time, _ = state
     floats, ints = undo_floats[w], undo_ints[w]
     time[w] = floats[0]
     at = 1
@@ -125,6 +137,11 @@ def restore_world(state, shapes, undo_floats, undo_ints, w) -> None:
         for column in range(SLEEP_TIME, BODY_F):
             body[w, i, column] = floats[at + column - _COLD]
         at += SAVED_BODY_F
+    for k in range(spring.shape[1]):
+        spring[w, k, SPRING_ON] = floats[at]
+        for column in range(IMPULSE_X, JOINT_TORQUE + 1):
+            spring[w, k, column] = floats[at + 1 + column - IMPULSE_X]
+        at += SAVED_SPRING_F
     for k in range(WORLD_I):
         world_i[w, k] = ints[k]
     count = world_i[w, CONTACT_COUNT]

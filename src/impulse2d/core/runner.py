@@ -94,7 +94,7 @@ class Runner:
         self._every = np.zeros(0, np.int64)
         self._every_plan = np.zeros((0, pipeline.PLAN_COLUMNS), np.int64)
         self._undo: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 0)), np.zeros((0, 0), np.int64))
-        self._undo_for: tuple[np.ndarray | None, np.ndarray | None] = (None, None)
+        self._undo_for: tuple[np.ndarray | None, ...] = (None, None, None)
         self._undo_contacts = 0
         # step_once's kept call: (state, generation, layout rows, ctx, call, arguments).
         self._fast: tuple = _NO_FAST_PATH
@@ -193,11 +193,12 @@ class Runner:
     def _undo_rows(self, state: WorldState) -> tuple[np.ndarray, np.ndarray]:
         """The undo rows for a call on ``state``, kept while its body and contact arrays
         are the same objects (they are replaced when they grow)."""
-        if state.body is not self._undo_for[0] or state.contact is not self._undo_for[1]:
+        kept = (state.body, state.contact, state.spring)
+        if any(a is not b for a, b in zip(kept, self._undo_for, strict=True)):
             batch, bodies, contacts = *state.body.shape[:2], state.contact_capacity
-            floats, ints = refusal.undo_sizes(bodies, contacts)
+            floats, ints = refusal.undo_sizes(bodies, contacts, state.spring.shape[1])
             self._undo = (np.empty((batch, floats)), np.empty((batch, ints), np.int64))
-            self._undo_for, self._undo_contacts = (state.body, state.contact), contacts
+            self._undo_for, self._undo_contacts = kept, contacts
         return self._undo
 
     def _plan(self, worlds: np.ndarray) -> np.ndarray:

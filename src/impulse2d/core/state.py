@@ -10,7 +10,7 @@ array           shape, dtype           what (columns below; SI units: m, kg, s, 
 ==============  =====================  ======================================================
 ``body``        (B, N, BODY_F) f8      pose, velocity, forces, mass, size, material, sleep
 ``body_i``      (B, N, BODY_I) i8      enabled, awake, island, events, broadphase order
-``spring``      (B, S, SPRING_F) f8    anchors, rest length, stiffness, damping, enabled
+``spring``      (B, S, SPRING_F) f8    springs and joints: anchors, parameters, impulses
 ``sensor``      (B, Q, SENSOR_F) f8    region of a sensor, enabled
 ``contact``     (B, C, CONTACT_F) f8   the contact points of the last step (warm start)
 ``contact_i``   (B, C, CONTACT_I) i8   their two bodies and feature id
@@ -75,14 +75,31 @@ ISLAND = 2  # while asleep: the island's id (the smallest slot in it); else -1
 SENSED = 3  # the last sensor whose region the centre entered (-1: none since cleared)
 FIRST_CONTACT = 4  # the first body this one pushed against since cleared (-1: none)
 SAP_ORDER = 5  # not state: the broadphase's sorted slot order, a cache (any order works)
-BODY_I = 6
+JOINT_LIST = 6  # the first joint row at this body (-1: none); the rest by NEXT_AT_A, _B
+BODY_I = 7
 
-# -- springs -------------------------------------------------------------------------------
-ANCHOR_AX, ANCHOR_AY = 0, 1  # on body 1, body-local (m)
+# -- springs and joints: one table, a row each (``LINK`` says which) ------------------------
+ANCHOR_AX, ANCHOR_AY = 0, 1  # on body 1, body-local (m); a mouse joint's target, world (m)
 ANCHOR_BX, ANCHOR_BY = 2, 3  # on body 2, body-local (m)
-REST_LENGTH, STIFFNESS, DAMPING = 4, 5, 6  # m, N/m, N s/m (along the spring)
-SPRING_ON = 7  # 1.0: the spring acts in this world
-SPRING_F = 8
+REST_LENGTH, STIFFNESS, DAMPING = 4, 5, 6  # m, N/m, N s/m (a spring, along it); a distance
+SPRING_ON = 7  # 1.0: the spring or joint acts in this world (0 also once a joint broke)
+LINK = 8  # SPRING (an explicit force, integrate.apply_springs) or a joint kind (joints.py)
+REFERENCE_ANGLE = 9  # angle of body 2 less body 1's when the joint was made (rad)
+AXIS_X, AXIS_Y = 10, 11  # a prismatic joint's axis, in body 1's frame (unit)
+LOWER, UPPER = 12, 13  # limits: angle (rad), translation or length (m)
+LIMITED = 14  # 1.0: the limits act (a distance joint's always do)
+MOTOR_SPEED, MAX_MOTOR = 15, 16  # rad/s or m/s; N m or N (0: no motor); a mouse's force
+HERTZ, DAMPING_RATIO = 17, 18  # a joint's spring or softness (0 Hz: none, or rigid)
+BREAK_FORCE = 19  # N: the joint switches off past it (0: it never breaks)
+IMPULSE_X, IMPULSE_Y = 20, 21  # accumulated a substep (N s): the point, or a slider's block
+IMPULSE_ANGLE, IMPULSE_MOTOR = 22, 23  # a weld's angle (N m s); the motor's
+IMPULSE_LOWER, IMPULSE_UPPER, IMPULSE_SPRING = 24, 25, 26  # the limits', the spring's
+FORCE_X, FORCE_Y, JOINT_TORQUE = 27, 28, 29  # what the joint did to body 2 over the step
+COLLIDE = 30  # 1.0: the joined bodies collide (a joint's collide_connected)
+NEXT_AT_A, NEXT_AT_B = 31, 32  # the next joint row at body 1 and at body 2 (-1: none)
+SPRING_F = 33
+# LINK values: what a row of the spring table is.
+SPRING, REVOLUTE, PRISMATIC, WELD, DISTANCE, MOUSE = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 
 # -- sensors: a circle (radius in SENSOR_HW) or a box -----------------------------------------
 SENSOR_X, SENSOR_Y, SENSOR_ANGLE = 0, 1, 2
@@ -129,7 +146,7 @@ def body_defaults() -> tuple[np.ndarray, np.ndarray]:
     row[[MASS, MOMENT, NORMAL_Y, COS, DAMP_LINEAR, DAMP_ANGULAR]] = 1.0
     row[HEALTH] = np.inf
     row_i = np.zeros(BODY_I, np.int64)
-    row_i[[ISLAND, SENSED, FIRST_CONTACT]] = -1
+    row_i[[ISLAND, SENSED, FIRST_CONTACT, JOINT_LIST]] = -1
     return row, row_i
 
 

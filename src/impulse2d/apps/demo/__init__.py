@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import impulse2d as p2
 
 from . import scenes as _s
+from . import scenes_joints as _j
 
 
 @dataclass(frozen=True)
@@ -196,6 +197,34 @@ _ALL = (
         _s.slingshot,
         seconds=5.0,
         view=(-1.0, -0.5, 12.0, 6.5),
+    ),
+    Scene(
+        "polygon-pile",
+        "forty polygons and capsules poured into a V of segments tumble and come to rest",
+        _j.polygon_pile,
+        seconds=8.0,
+        view=(-7.0, -0.5, 7.0, 9.0),
+    ),
+    Scene(
+        "pendulum-chain",
+        "twelve capsules pinned end to end fall from level, whip and swing on a hook",
+        _j.pendulum_chain,
+        seconds=6.0,
+        view=(-6.5, -0.5, 6.5, 7.0),
+    ),
+    Scene(
+        "ragdolls",
+        "three ragdolls tumble down a flight of stairs, their joints bending within limits",
+        _j.ragdolls,
+        seconds=6.0,
+        view=(-1.0, -0.5, 12.0, 9.5),
+    ),
+    Scene(
+        "car-hill",
+        "a car on two motor-driven wheels climbs a hill of segments and rolls down the far side",
+        _j.car_on_a_hill,
+        seconds=8.0,
+        view=(-8.0, -1.0, 24.0, 8.0),
     ),
 )
 
