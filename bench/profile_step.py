@@ -155,7 +155,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
             pipeline.rest_step(body, contact, world_i, time, w, ctx)
         return 0
     terms, points, ids, pairs = scratch.terms, scratch.points, scratch.point_ids, scratch.pairs
-    step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
+    step_terms(body, body_i, shapes, spring, ends, hull, w, ctx, terms)
     if stages < 2:
         return 0
     if stages == 2:
@@ -168,7 +168,7 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     if n < 0 or stages == 3:
         return n
     while wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
-        step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
+        step_terms(body, body_i, shapes, spring, ends, hull, w, ctx, terms)
         n = _collide(body, body_i, hull, shapes, w, ctx, scratch)
         if n < 0:
             return n

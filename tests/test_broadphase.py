@@ -13,15 +13,30 @@ from impulse2d.core.workspace import BOTTOM, LEFT, MOVABLE, MOVING, RIGHT, TOP
 DT = 1 / 60
 
 
+def step_terms(world: p2.World, w: int = 0) -> np.ndarray:
+    """``integrate.step_terms`` of world ``w`` as it stands: (B, TERMS)."""
+    state = world.state
+    terms = np.zeros((state.body.shape[1], workspace.TERMS))
+    integrate.step_terms(
+        state.body,
+        state.body_i,
+        world.layout.shapes,
+        state.spring,
+        world.layout.springs,
+        state.hull,
+        w,
+        world.settings.step_context(DT),
+        terms,
+    )
+    return terms
+
+
 def candidate_pairs(world: p2.World, w: int = 0) -> np.ndarray:
     """The broadphase's pairs for world ``w`` as it stands: (P, 2) slots (A, B)."""
     ctx = world.settings.step_context(DT)
     state, shapes = world.state, world.layout.shapes
     n = state.body.shape[1]
-    terms = np.zeros((n, workspace.TERMS))
-    integrate.step_terms(
-        state.body, state.body_i, shapes, state.spring, world.layout.springs, w, ctx, terms
-    )
+    terms = step_terms(world, w)
     capacity = 16
     while True:
         pairs = np.zeros((capacity, 2), np.int64)
@@ -37,13 +52,9 @@ def candidate_pairs(world: p2.World, w: int = 0) -> np.ndarray:
 
 def brute_force(world: p2.World, w: int = 0) -> set:
     """Every pair by the broadphase's rule, tested one by one."""
-    ctx = world.settings.step_context(DT)
     state, shapes = world.state, world.layout.shapes
     n = state.body.shape[1]
-    terms = np.zeros((n, workspace.TERMS))
-    integrate.step_terms(
-        state.body, state.body_i, shapes, state.spring, world.layout.springs, w, ctx, terms
-    )
+    terms = step_terms(world, w)
     on = state.body_i[w, :, ENABLED] == 1
     kind, motion = shapes[:, 0], shapes[:, 1]
     found = set()
@@ -180,3 +191,34 @@ def test_pair_count_grows_linearly_with_scene_size():
         counts[count] = len(candidate_pairs(world))
         assert counts[count] > count  # every body is paired with the ground at least
     assert counts[1000] / counts[250] < 6.0
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.5, 2.0, -1.2])
+def test_a_polygons_box_is_its_turned_outlines_box(angle):
+    """A long plank's broadphase box is the box round its corners as turned now (and its
+    rounding), grown by the step's reach, not the square round its bounding circle: a
+    40 m paddle would otherwise pair with everything within 20 m of its centre."""
+    world = p2.World(gravity=(0.0, 0.0))
+    plank = world.add(
+        p2.Polygon(
+            vertices=[(-20.0, -0.25), (20.0, -0.25), (20.0, 0.25), (-20.0, 0.25)], radius=0.1
+        )
+    )
+    plank.position, plank.angle = (3.0, -1.0), angle
+    terms = step_terms(world)
+    corners = plank.world_vertices()
+    grow = terms[plank.slot, LEFT] - (corners[:, 0].min() - 0.1)
+    assert grow <= 0.0
+    reach = -grow
+    np.testing.assert_allclose(terms[plank.slot, LEFT], corners[:, 0].min() - 0.1 - reach)
+    np.testing.assert_allclose(terms[plank.slot, RIGHT], corners[:, 0].max() + 0.1 + reach)
+    np.testing.assert_allclose(terms[plank.slot, BOTTOM], corners[:, 1].min() - 0.1 - reach)
+    np.testing.assert_allclose(terms[plank.slot, TOP], corners[:, 1].max() + 0.1 + reach)
+    assert reach < 0.1  # at rest: the speculative margin alone
+    # A ball 5 m above the flat plank's middle, well inside its bounding circle, is no
+    # candidate; turned, the plank's box reaches it.
+    ball = world.add(p2.Circle(radius=0.5, position=(3.0, 4.0)))
+    paired = {tuple(sorted(pair)) for pair in candidate_pairs(world)}
+    boxes_meet = corners[:, 1].max() + 0.1 + reach > 3.5 - reach
+    assert ((plank.slot, ball.slot) in paired) == boxes_meet
+    assert boxes_meet == (angle != 0.0)

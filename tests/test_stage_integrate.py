@@ -47,6 +47,7 @@ def terms_of(world: p2.World, dt: float = DT, w: int = 0) -> np.ndarray:
         world.layout.shapes,
         state.spring,
         world.layout.springs,
+        state.hull,
         w,
         ctx,
         terms,

@@ -276,7 +276,15 @@ def _box_plane_points(angle, height, spin) -> list[int]:
     ctx = world.settings.step_context(DT)
     terms = np.zeros((state.body.shape[1], workspace.TERMS))
     integrate.step_terms(
-        state.body, state.body_i, shapes, state.spring, world.layout.springs, 0, ctx, terms
+        state.body,
+        state.body_i,
+        shapes,
+        state.spring,
+        world.layout.springs,
+        state.hull,
+        0,
+        ctx,
+        terms,
     )
     pairs = np.array([[body.slot, ground.slot]], np.int64)
     broadphase.pushed_reach(state.body, shapes, 0, ctx, terms, pairs, 0)  # no other body

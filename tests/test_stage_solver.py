@@ -37,7 +37,15 @@ def prepared(world: p2.World, dt: float = DT) -> SimpleNamespace:
     n_bodies = state.body.shape[1]
     terms = np.zeros((n_bodies, workspace.TERMS))
     integrate.step_terms(
-        state.body, state.body_i, shapes, state.spring, world.layout.springs, 0, ctx, terms
+        state.body,
+        state.body_i,
+        shapes,
+        state.spring,
+        world.layout.springs,
+        state.hull,
+        0,
+        ctx,
+        terms,
     )
     pairs = np.zeros((64, 2), np.int64)
     count = broadphase.find_pairs(

@@ -57,11 +57,14 @@ from .state import (
     POLYGON,
     REST_LENGTH,
     ROLLING,
+    ROUNDING,
     SIN,
     SPRING,
     SPRING_ON,
     STIFFNESS,
     TORQUE,
+    VERTEX0,
+    VERTEX_COUNT,
     VX,
     VY,
     X,
@@ -90,13 +93,13 @@ from .workspace import (
 
 
 @kernel
-def step_terms(body, body_i, shapes, spring, ends, w, ctx, terms) -> None:
+def step_terms(body, body_i, shapes, spring, ends, hull, w, ctx, terms) -> None:
     """Everything ``workspace`` lists per body for this step: ``body_terms``, then the
     springs' share of each body's reach and the broadphase boxes grown by it."""
     body_terms(body, body_i, shapes, w, ctx, terms)
     if ends.shape[0]:
         spring_reach(body, body_i, spring, ends, w, ctx, terms)
-    broadphase_boxes(body, body_i, shapes, w, ctx, terms)
+    broadphase_boxes(body, body_i, shapes, hull, w, ctx, terms)
 
 
 @kernel
@@ -174,7 +177,24 @@ def spring_reach(body, body_i, spring, ends, w, ctx, terms) -> None:
 
 
 @kernel
-def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
+def outline_extent(body, hull, w, i):
+    """The box round body ``i``'s outline as it is turned now, about its centre of mass:
+    ``(low_x, high_x, low_y, high_y)`` (m). Each vertex ``v`` is at ``R v`` with ``R`` the
+    body's rotation; the rounding radius grows the box on every side."""
+    c, s = body[w, i, COS], body[w, i, SIN]
+    low_x = low_y = np.inf
+    high_x = high_y = -np.inf
+    for k in range(int(hull[w, i, VERTEX_COUNT])):
+        vx, vy = hull[w, i, VERTEX0 + 2 * k], hull[w, i, VERTEX0 + 2 * k + 1]
+        x, y = c * vx - s * vy, s * vx + c * vy
+        low_x, high_x = min(low_x, x), max(high_x, x)
+        low_y, high_y = min(low_y, y), max(high_y, y)
+    r = hull[w, i, ROUNDING]
+    return low_x - r, high_x + r, low_y - r, high_y + r
+
+
+@kernel
+def broadphase_boxes(body, body_i, shapes, hull, w, ctx, terms) -> None:
     """Each body's broadphase box (``LEFT`` ... ``TOP``, see ``workspace``)."""
     dt = ctx[context.DT]
     for i in range(shapes.shape[0]):
@@ -185,20 +205,21 @@ def broadphase_boxes(body, body_i, shapes, w, ctx, terms) -> None:
         if kind == BOX:
             c, s = abs(body[w, i, COS]), abs(body[w, i, SIN])
             extent_x, extent_y = c * hw + s * hh, s * hw + c * hh
+            low_x, high_x, low_y, high_y = -extent_x, extent_x, -extent_y, extent_y
         elif kind == POLYGON:
-            # The circle about the centre of mass that holds the outline: looser than the
-            # rotated outline's own box, but read from the body row alone.
-            extent_x = extent_y = body[w, i, BOUND]
+            # The turned outline's own box, not the circle that holds it: a long segment
+            # or plank would otherwise pair with everything within its length.
+            low_x, high_x, low_y, high_y = outline_extent(body, hull, w, i)
         else:
-            extent_x, extent_y = hw, hw
+            low_x, high_x, low_y, high_y = -hw, hw, -hw, hw
         # The broadphase box: the shape's box grown by how far the body can travel this
         # step and by half its speculative distance.
         grow = terms[i, REACH] * dt + terms[i, HALF_SPEC]
         in_broadphase = enabled and kind != PLANE and kind != FREE
-        terms[i, LEFT] = x - extent_x - grow if in_broadphase else np.inf
-        terms[i, RIGHT] = x + extent_x + grow
-        terms[i, BOTTOM] = y - extent_y - grow
-        terms[i, TOP] = y + extent_y + grow
+        terms[i, LEFT] = x + low_x - grow if in_broadphase else np.inf
+        terms[i, RIGHT] = x + high_x + grow
+        terms[i, BOTTOM] = y + low_y - grow
+        terms[i, TOP] = y + high_y + grow
 
 
 @kernel

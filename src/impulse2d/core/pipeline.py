@@ -146,7 +146,7 @@ def collide_and_wake(body, body_i, shapes, spring, ends, hull, w, ctx, scratch, 
             return -1
         if not sleeping or not wake_touched(body, body_i, shapes, spring, ends, w, terms, ids, n):
             return n
-        step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
+        step_terms(body, body_i, shapes, spring, ends, hull, w, ctx, terms)
 
 
 @inline
@@ -255,7 +255,7 @@ def step_world(state, layout, ctx, w, scratch, plan_row) -> int:
         rest_step(body, contact, world_i, time, w, ctx)
         return RUNNING
     terms, points, ids = scratch.terms, scratch.points, scratch.point_ids
-    step_terms(body, body_i, shapes, spring, ends, w, ctx, terms)
+    step_terms(body, body_i, shapes, spring, ends, hull, w, ctx, terms)
     n = collide_and_wake(body, body_i, shapes, spring, ends, hull, w, ctx, scratch, plan_row)
     if n < 0:
         return NEEDS_ROOM
