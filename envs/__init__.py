@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
-IDS = ("Pool2D-v0", "Slingshot2D-v0")
+# Slingshot2DBlocks-v0 is Slingshot2D with triangles and round stones (envs/slingshot_blocks.py).
+IDS = ("Pool2D-v0", "Slingshot2D-v0", "Slingshot2DBlocks-v0")
 # The learnable variants, for tools that take only an id (RL Zoo, CleanRL, TorchRL): the
 # first pool task of docs/getting-started.md (one object ball at a random spot, five
 # shots an episode) and the hand-made slingshot levels. Each is its base game with these
@@ -94,6 +95,12 @@ def register() -> None:
         id="Slingshot2D-v0",
         entry_point="impulse2d.envs.slingshot:Slingshot2DEnv",
         vector_entry_point="impulse2d.envs.slingshot:Slingshot2DVectorEnv",
+        max_episode_steps=10,
+    )
+    gym.register(
+        id="Slingshot2DBlocks-v0",
+        entry_point="impulse2d.envs.slingshot_blocks:Slingshot2DBlocksEnv",
+        vector_entry_point="impulse2d.envs.slingshot_blocks:Slingshot2DBlocksVectorEnv",
         max_episode_steps=10,
     )
     for variant, (base, kwargs, max_steps) in VARIANTS.items():

@@ -49,11 +49,16 @@ SQUARE = 0.4  # m, side of a square block
 
 @dataclass
 class Level:
-    """Blocks ``(x, y, width, height, material index)`` and pigs ``(x, y)``: the centres."""
+    """Blocks ``(x, y, width, height, material index)`` and pigs ``(x, y)``: the centres.
+    Slingshot2DBlocks-v0 levels also hold ``triangles`` ``(x, y, angle, material index)`` (the
+    centroid of a right triangle with ``TRIANGLE_LEG`` legs, turned by ``angle``) and
+    round ``stones`` ``(x, y, radius, material index)``; v0 levels have none."""
 
     name: str
     blocks: list[tuple[float, float, float, float, int]] = field(default_factory=list)
     pigs: list[tuple[float, float]] = field(default_factory=list)
+    triangles: list[tuple[float, float, float, int]] = field(default_factory=list)
+    stones: list[tuple[float, float, float, int]] = field(default_factory=list)
 
     def tower(self, x: float, base: float, span: float, materials: list[int]) -> float:
         """Storeys of two posts under a plank, one per material, centred on ``x``, the first

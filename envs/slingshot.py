@@ -48,6 +48,7 @@ FEATURES = 9  # numbers per pig or block slot in the observation
 # num_levels seeds): building one takes ~7 ms in Python, more than stepping it; each
 # kept level is a ~14 kB snapshot. The oldest goes first beyond this many.
 LEVEL_CACHE = 4096
+LEVELS = ("random", "handmade", "templates", *_levels.HANDMADE)
 _MATERIAL_COLOURS = np.array([(170, 220, 245), (196, 140, 80), (140, 140, 150)], np.float32)
 
 
@@ -64,8 +65,12 @@ class SlingshotGame(ShotGame):
     Slots: 0 is the bird, 1..MAX_PIGS the pigs, then MAX_BLOCKS blocks; a level uses the
     first ones and leaves the rest disabled, so every world has the same slots whatever
     its level (the batched engine needs that) and the observation has a fixed size.
+    A subclass with other blocks (``slingshot_blocks``) changes ``_add_blocks``,
+    ``_place_blocks``, ``_random_level`` and the level names.
     """
 
+    level_names = LEVELS
+    handmade = _levels.HANDMADE
     per_world = ("max_health", "_in_level", "material", "birds_left", "_alive_before")
 
     def __init__(
@@ -80,7 +85,7 @@ class SlingshotGame(ShotGame):
         templates: Any = None,
     ) -> None:
         batch_size = check_num_envs(batch_size)
-        self.level = _checks.word("level", level, LEVELS)
+        self.level = _checks.word("level", level, self.level_names)
         self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
         self.templates = _template_choice(self.level, templates)
         self.num_birds = _checks.int_in("num_birds", num_birds, 1, 10)
@@ -90,7 +95,7 @@ class SlingshotGame(ShotGame):
             1, "cpu"
         )  # resets copy its state from the host
         self._parked = template.snapshot()  # every slot parked: where each build starts
-        slots = MAX_PIGS + MAX_BLOCKS
+        slots = MAX_PIGS + len(self.blocks)
         low = np.array([0, 0, 0, -1, 0, -1, 0, 0, 0], np.float32)
         super().__init__(
             world=world,
@@ -111,19 +116,17 @@ class SlingshotGame(ShotGame):
 
     @property
     def alive(self) -> np.ndarray:
-        """(B, 24) bool: which pigs and blocks are still there (not destroyed)."""
+        """(B, slots) bool: which pigs and blocks are still there (not destroyed)."""
         return self.world.array("enabled")[:, self._targets].copy()
 
     @property
     def health(self) -> np.ndarray:
-        """(B, 24): the health (N s) each pig and block of the level has left (below 0 for
+        """(B, slots): the health (N s) each pig and block of the level has left (below 0 for
         one that broke: the impact took more); 0 for slots the level does not use."""
         return np.where(self._in_level, self.world.array("health")[:, self._targets], 0.0)
 
-    @staticmethod
-    def _build(
-        batch: int, device: str
-    ) -> tuple[p2.World, p2.Circle, list[p2.Circle], list[p2.Box]]:
+    @classmethod
+    def _build(cls, batch: int, device: str) -> tuple[p2.World, p2.Circle, list[p2.Circle], list]:
         # Impacts closing slower than IMPACT_SPEED do no damage (resting stacks); a body that
         # leaves the arena is gone: a sensor outside which bodies are switched off.
         world = p2.World(
@@ -154,7 +157,7 @@ class SlingshotGame(ShotGame):
             )
             for _ in range(MAX_PIGS)
         ]
-        blocks = [world.add(p2.Box()) for _ in range(MAX_BLOCKS)]
+        blocks = cls._add_blocks(world)
         world.add(p2.Plane(normal=(0.0, 1.0), point=(0.0, 0.0), friction=0.8, restitution=0.1))
         middle, width = (ARENA_X[0] + ARENA_X[1]) / 2, ARENA_X[1] - ARENA_X[0]
         world.add(
@@ -165,24 +168,33 @@ class SlingshotGame(ShotGame):
         world.stop()
         return world, bird, pigs, blocks
 
+    @staticmethod
+    def _add_blocks(world: p2.World) -> list:
+        """The block slots, after the pigs' (v0: ``MAX_BLOCKS`` boxes)."""
+        return [world.add(p2.Box()) for _ in range(MAX_BLOCKS)]
+
     # -- episodes ----------------------------------------------------------------------------------
+    @staticmethod
+    def _random_level(rng: np.random.Generator) -> _levels.Level:
+        return _levels.random_level(rng, MAX_BLOCKS, MAX_PIGS)
+
     def _pick_level(self, rng: np.random.Generator) -> _levels.Level:
         if self.level == "templates":
             seed = self.start_level + int(rng.integers(self.num_levels or 2**62))
             return _templates.template_level(self.templates, seed)
         if self.level == "random" and self.num_levels:
             seed = self.start_level + int(rng.integers(self.num_levels))
-            return _levels.random_level(np.random.default_rng(seed), MAX_BLOCKS, MAX_PIGS)
+            return self._random_level(np.random.default_rng(seed))
         if self.level == "random":
-            return _levels.random_level(rng, MAX_BLOCKS, MAX_PIGS)
+            return self._random_level(rng)
         if self.level == "handmade":
-            names = list(_levels.HANDMADE)
-            return _levels.HANDMADE[names[int(rng.integers(len(names)))]]()
-        return _levels.HANDMADE[self.level]()
+            names = list(self.handmade)
+            return self.handmade[names[int(rng.integers(len(names)))]]()
+        return self.handmade[self.level]()
 
     def _new_episode(self, world: int, rng: np.random.Generator) -> None:
         level = self._pick_level(rng)
-        key = (level.name, tuple(level.blocks), tuple(level.pigs))
+        key = (level.name, *map(tuple, (level.blocks, level.pigs, level.triangles, level.stones)))
         built = self._built.get(key)
         if built is None:
             built = self._build_level(level)
@@ -201,8 +213,8 @@ class SlingshotGame(ShotGame):
     def _build_level(self, level: _levels.Level) -> tuple:
         """The template set up for ``level``: its snapshot, and the per-slot max health,
         in-level flags and materials. A function of the level alone."""
-        _, pigs, blocks = self._template_bodies
-        slots = MAX_PIGS + MAX_BLOCKS
+        _, pigs, _ = self._template_bodies
+        slots = MAX_PIGS + len(self.blocks)
         max_health, in_level = np.ones(slots), np.zeros(slots, dtype=bool)
         material = np.zeros(slots, np.int64)
         # Every build starts from every slot parked as _build left them, so a build is a
@@ -214,19 +226,33 @@ class SlingshotGame(ShotGame):
             pig.enabled = True
             pig.health = max_health[i] = PIG_HEALTH
             in_level[i] = True
-        for i, block in enumerate(blocks[: len(level.blocks)]):
-            x, y, width, height, kind_index = level.blocks[i]
-            kind = MATERIALS[kind_index]
-            block.width, block.height = width, height
-            block.mass = kind.density * width * height
-            block.friction, block.restitution = kind.friction, kind.restitution
-            block.position = (x, y)
-            block.enabled = True
-            k = MAX_PIGS + i
-            block.health = max_health[k] = kind.health
-            in_level[k], material[k] = True, kind_index
+        self._place_blocks(level, max_health, in_level, material)
         self.template.stop()  # everything asleep: the level stands as built until hit
         return self.template.snapshot(), max_health, in_level, material
+
+    def _place_blocks(self, level: _levels.Level, max_health, in_level, material) -> None:
+        """Put ``level``'s blocks into the template's block slots, each with its
+        material's mass, friction, bounce and health (into the per-slot arrays)."""
+        if level.triangles or level.stones:
+            raise ValueError(
+                f"level {level.name!r} has triangles or stones: they need Slingshot2DBlocks"
+            )
+        boxes = self._template_bodies[2]
+        for i, (x, y, width, height, kind_index) in enumerate(level.blocks):
+            block, kind = boxes[i], MATERIALS[kind_index]
+            block.width, block.height = width, height
+            block.mass = kind.density * width * height
+            self._set_block(block, MAX_PIGS + i, kind_index, (x, y), max_health, in_level, material)
+
+    @staticmethod
+    def _set_block(block, k, kind_index, position, max_health, in_level, material) -> None:
+        """What every block slot ``k`` takes from its material once its size is set."""
+        kind = MATERIALS[kind_index]
+        block.friction, block.restitution = kind.friction, kind.restitution
+        block.position = position
+        block.enabled = True
+        block.health = max_health[k] = kind.health
+        in_level[k], material[k] = True, kind_index
 
     # -- a shot ------------------------------------------------------------------------------------
     def _launch(self, worlds: np.ndarray, actions: np.ndarray) -> None:
@@ -293,7 +319,7 @@ class SlingshotGame(ShotGame):
         pose = world.array("pose")[:, :, self._targets]
         half_w = world.array("half_width")[:, self._targets]
         half_h = world.array("half_height")[:, self._targets]
-        obs = np.zeros((self.batch_size, MAX_PIGS + MAX_BLOCKS, FEATURES), np.float32)
+        obs = np.zeros((self.batch_size, len(self._targets), FEATURES), np.float32)
         alive = self.alive
         obs[:, :, 0] = alive
         obs[:, MAX_PIGS:, 1] = 1.0
@@ -395,8 +421,17 @@ class SlingshotGame(ShotGame):
             shade = 0.55 + 0.45 * max(health[k] / self.max_health[world, k], 0.0)
             colour = _MATERIAL_COLOURS[self.material[world, k]] * shade
             x, y = renderer.to_pixels(pose[0, slot], pose[1, slot])
-            hw, hh = half_w[slot] * scale, half_h[slot] * scale
-            raster.box(canvas, x, y, float(pose[2, slot]), hw, hh, colour)
+            if isinstance(block, p2.Box):
+                hw, hh = half_w[slot] * scale, half_h[slot] * scale
+                raster.box(canvas, x, y, float(pose[2, slot]), hw, hh, colour)
+            elif isinstance(block, p2.Circle):
+                raster.disc(canvas, x, y, half_w[slot] * scale, colour)
+            else:  # an outline: its corners turned and placed, in pixels
+                c, s = math.cos(pose[2, slot]), math.sin(pose[2, slot])
+                corners = [renderer.to_pixels(pose[0, slot] + c * u - s * v,
+                                              pose[1, slot] + s * u + c * v)
+                           for u, v in block.vertices]  # fmt: skip
+                raster.polygon(canvas, np.array(corners), block.radius * scale, colour)
         for i in range(self.birds_left[world]):
             x, y = renderer.to_pixels(SLING[0] - 0.6 - 0.5 * i, BIRD_RADIUS)
             raster.disc(canvas, x, y, BIRD_RADIUS * scale, np.array((210, 40, 40), np.float32))
@@ -427,9 +462,6 @@ def _sling(canvas: np.ndarray, to_pixels: Any, scale: float) -> None:
     for side in (-1.0, 1.0):
         x2, y2 = to_pixels(SLING[0] + side * 0.25, SLING[1] + 0.1)
         raster.segment(canvas, x1, y1, x2, y2, width, wood)
-
-
-LEVELS = ("random", "handmade", "templates", *_levels.HANDMADE)
 
 
 def _template_choice(level: str, templates: Any) -> tuple[str, ...]:

@@ -16,7 +16,7 @@ import impulse2d  # noqa: F401  (registers the ids)
 from impulse2d.envs.pool import BALL_COLOURS
 from impulse2d.envs.sb3 import make_sb3_vec_env
 
-IDS = ("Pool2D-v0", "Slingshot2D-v0")
+IDS = ("Pool2D-v0", "Slingshot2D-v0", "Slingshot2DBlocks-v0")
 FAST = {"max_shot_seconds": 2.0}
 
 

@@ -1,5 +1,6 @@
-"""The Gymnasium contract of Pool2D-v0 and Slingshot2D-v0: checkers, registration,
-determinism, vector env = single envs, bad actions, rendering and the scripted baselines.
+"""The Gymnasium contract of Pool2D-v0, Slingshot2D-v0 and Slingshot2DBlocks-v0: checkers,
+registration, determinism, vector env = single envs, bad actions, rendering and the
+scripted baselines.
 
 Pool tests use one object ball at random spots (short shots); slingshot tests the
 hand-made levels. The rules and physics of each game are in ``test_pool_rules.py`` and
@@ -29,6 +30,7 @@ from impulse2d.envs.baselines import pool_ghost_ball, slingshot_ballistic
 OPTIONS: dict[str, dict[str, Any]] = {
     "Pool2D-v0": {"num_balls": 1},
     "Slingshot2D-v0": {"level": "handmade"},
+    "Slingshot2DBlocks-v0": {"level": "handmade"},
 }
 IDS = list(OPTIONS)
 
@@ -453,3 +455,12 @@ def test_ballistic_launch_beats_random_over_100_episodes() -> None:
     scripted = _mean_return("Slingshot2D-v0", slingshot_ballistic, 100, 0)
     random = _mean_return("Slingshot2D-v0", None, 100, 0)
     assert scripted > 2.0 * random and scripted > 2.0
+
+
+def test_ballistic_launch_beats_random_on_the_blocks_game() -> None:
+    """Slingshot2DBlocks-v0's generated levels (roofs, stones, ramparts), three birds: the
+    ballistic player reads the pigs from the same slots as in v0 and still scores far
+    above random launches (measured 2.28 against 0.65; v0's levels give it 2.63)."""
+    scripted = _mean_return("Slingshot2DBlocks-v0", slingshot_ballistic, 100, 0, level="random")
+    random = _mean_return("Slingshot2DBlocks-v0", None, 100, 0, level="random")
+    assert scripted > 2.5 * random and scripted > 1.8
