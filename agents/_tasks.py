@@ -87,11 +87,11 @@ def _pool() -> Task:
     )
 
 
-def _slingshot() -> Task:
+def _slingshot(env_id: str) -> Task:
     from impulse2d.envs.baselines import slingshot_ballistic
 
     return Task(
-        env_id="Slingshot2D-v0",
+        env_id=env_id,
         scripted_name="ballistic",
         scripted=slingshot_ballistic,
         metrics=(
@@ -111,7 +111,10 @@ def _slingshot() -> Task:
 
 
 def task(env_id: str) -> Task:
-    return {"Pool2D-v0": _pool, "Slingshot2D-v0": _slingshot}[env_id]()
+    """The metrics and targets of game ``env_id`` (the two slingshot games share theirs)."""
+    if env_id in ("Slingshot2D-v0", "Slingshot2DBlocks-v0"):
+        return _slingshot(env_id)
+    return {"Pool2D-v0": _pool}[env_id]()
 
 
 def play_episodes(

@@ -50,6 +50,12 @@ CALL_SHOT_IDS = {
         {"level": "templates", "templates": "train", "num_levels": 4000, "num_birds": 1},
         10,
     ),
+    # The generated levels with triangles and stones, as Slingshot2DGeneratedCallShot-v0.
+    "Slingshot2DBlocksCallShot-v0": (
+        "Slingshot2DBlocks-v0",
+        {"level": "random", "num_levels": 4000},
+        10,
+    ),
 }
 
 
@@ -58,6 +64,10 @@ CALL_SHOT_ENTRY_POINTS = {
     "Pool2DRackBestShots-v0": (
         "impulse2d.envs.bestshots:make",
         "impulse2d.envs.bestshots:make_vector",
+    ),
+    "Slingshot2DBlocksCallShot-v0": (
+        "impulse2d.envs.slingshot_blocks:make_call_shot",
+        "impulse2d.envs.slingshot_blocks:make_call_shot_vector",
     ),
 }
 
@@ -114,11 +124,12 @@ def register() -> None:
         )
     entry = {"Pool2D-v0": "pool", "Slingshot2D-v0": "slingshot"}
     for task, (base, kwargs, max_steps) in CALL_SHOT_IDS.items():
-        name = entry[base]
-        single, vector = CALL_SHOT_ENTRY_POINTS.get(
-            task,
-            (f"impulse2d.envs.callshot:make_{name}", f"impulse2d.envs.callshot:make_{name}_vector"),
-        )
+        if task in CALL_SHOT_ENTRY_POINTS:
+            single, vector = CALL_SHOT_ENTRY_POINTS[task]
+        else:
+            name = entry[base]
+            single = f"impulse2d.envs.callshot:make_{name}"
+            vector = f"impulse2d.envs.callshot:make_{name}_vector"
         gym.register(
             id=task,
             entry_point=single,

@@ -8,12 +8,15 @@ actions, rewards and materials are Slingshot2D-v0's; see ``Slingshot2DBlocksEnv`
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 import impulse2d as p2
 
 from . import _blocks, _levels
 from ._levels import MATERIALS
+from .callshot import SlingshotCallShot, SlingshotCallShotVector
 from .slingshot import (
     MAX_BLOCKS,
     MAX_PIGS,
@@ -101,3 +104,13 @@ class Slingshot2DBlocksVectorEnv(Slingshot2DVectorEnv):
     ``Slingshot2DBlocksEnv``)."""
 
     game_class = SlingshotBlocksGame
+
+
+def make_call_shot(**kwargs: Any) -> SlingshotCallShot:
+    """``Slingshot2DBlocksCallShot-v0``'s entry point: the blocks game with the
+    call-shot action (``impulse2d.envs.callshot``)."""
+    return SlingshotCallShot(Slingshot2DBlocksEnv(**kwargs))
+
+
+def make_call_shot_vector(**kwargs: Any) -> SlingshotCallShotVector:
+    return SlingshotCallShotVector(Slingshot2DBlocksVectorEnv(**kwargs))

@@ -208,11 +208,15 @@ def test_summary_over_runs(evaluated: tuple[Path, Any], tmp_path: Path) -> None:
         evaluate.summarize_runs([tmp_path])
 
 
-def test_slingshot_metrics_in_the_table(tmp_path: Path) -> None:
-    run_dir = _train(tmp_path / "run", "Slingshot2DCallShot-v0", "ppo", 32)
+@pytest.mark.parametrize("env", ["Slingshot2DCallShot-v0", "Slingshot2DBlocksCallShot-v0"])
+def test_slingshot_metrics_in_the_table(tmp_path: Path, env: str) -> None:
+    """Both slingshot games (boxes, and boxes with triangles and stones) are scored on
+    the slingshot's metrics against the ballistic player."""
+    run_dir = _train(tmp_path / "run", env, "ppo", 32)
     results = evaluate.evaluate(run_dir, episodes=3, seed=0, video=None)
     labels = [spec["label"] for spec in results["metrics"].values()]
     assert all(label in labels for label in EXPECTED_COLUMNS["Slingshot2DCallShot-v0"])
+    assert results["scripted"] == "ballistic" and "scripted" in results["policies"]
     for row in results["policies"].values():
         # Three birds: an episode uses one to three of them (it ends when a level is clear).
         assert 1.0 <= row["birds_used"]["mean"] <= 3.0
