@@ -237,6 +237,10 @@ class SlingshotGame(ShotGame):
             raise ValueError(
                 f"level {level.name!r} has triangles or stones: they need Slingshot2DBlocks"
             )
+        self._place_boxes(level, max_health, in_level, material)
+
+    def _place_boxes(self, level: _levels.Level, max_health, in_level, material) -> None:
+        """``level``'s boxes into the first box slots (``_place_blocks``)."""
         boxes = self._template_bodies[2]
         for i, (x, y, width, height, kind_index) in enumerate(level.blocks):
             block, kind = boxes[i], MATERIALS[kind_index]

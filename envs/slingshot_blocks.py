@@ -55,8 +55,7 @@ class SlingshotBlocksGame(SlingshotGame):
     def _place_blocks(self, level: _levels.Level, max_health, in_level, material) -> None:
         """The boxes as v0 places them, then the triangles (mass: density times the
         area ``L^2 / 2``) and the stones (density times ``pi r^2``)."""
-        boxes = _levels.Level(level.name, level.blocks, level.pigs)
-        super()._place_blocks(boxes, max_health, in_level, material)
+        self._place_boxes(level, max_health, in_level, material)
         blocks = self._template_bodies[2]
         leg = _blocks.TRIANGLE_LEG
         for i, (x, y, angle, kind_index) in enumerate(level.triangles):
