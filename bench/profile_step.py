@@ -10,11 +10,14 @@ two consecutive variants is a stage's own cost. The stages, in the step's order:
 3. narrowphase (``narrowphase.find_points``)
 4. waking (``sleep.wake_touched``; when something wakes, the step looks again: body
    terms, broadphase and narrowphase once more, which this stage is charged with)
-5. contact preparation (``contacts.count_dormant``, the spring stability test when the
-   world has springs, ``contacts.carry_impulses``, ``contacts.prepare``)
-6. substeps (``pipeline.substeps``: integration, warm start, solve, relax; restitution)
-7. finish (``projection.project_out_of_planes``, ``pipeline.finish``: store contacts,
-   events, forces, sleep, sensors, clock; ``refusal.leaves_envelope``)
+5. warm-start lookup (``contacts.count_dormant``, the spring stability test when the
+   world has springs, ``contacts.carry_impulses``)
+6. contact preparation (``contacts.prepare``)
+7. colouring and packing (``pipeline.colour``; nothing below ``COLOUR_FROM`` points)
+8. substeps (``pipeline.substeps``: integration, warm start, solve, relax; restitution)
+9. projection (``projection.project_out_of_planes``)
+10. finish (``pipeline.finish``: store contacts, events, forces, sleep, sensors, clock;
+    ``refusal.leaves_envelope``)
 
 A world at rest takes ``pipeline.rest_step`` in the full variant only. Before every
 timed repeat the kernel restores each world from the copy (variant 0 does only that, and
@@ -41,6 +44,9 @@ batch the launch of the threads) to the compiled step's.
 Run ``python bench/profile_step.py`` (about 20 seconds on 2 cores, most of it compiling the
 two kernels; ``--quick`` for 64 worlds and a rain of 1,000) or ``python
 bench/bench_engine.py --profile``.
+``--box2d many_pyramids smash`` profiles Box2D's scenes (``box2d_scenes.py``) instead, one
+world each at Box2D's size, after ``BOX2D_STEPS`` steps (a minute or two each: building
+the scene and the untimed steps).
 """
 
 from __future__ import annotations
@@ -72,6 +78,7 @@ from impulse2d.core.workspace import Workspace, views
 from impulse2d.world import Snapshot
 
 try:  # imported as part of the repo (``bench.profile_step``) ...
+    from bench import box2d_scenes
     from bench.engine_runs import (
         POOL_SUBSTEPS,
         _pool_world,
@@ -82,6 +89,7 @@ try:  # imported as part of the repo (``bench.profile_step``) ...
     from bench.report import fmt, print_table
     from bench.scenes import pool_break, pool_cue_offsets, pyramid, rain
 except ImportError:  # ... or run as a script, with bench/ on sys.path
+    import box2d_scenes
     from engine_runs import (
         POOL_SUBSTEPS,
         _pool_world,
@@ -97,8 +105,11 @@ STAGES = (
     "broadphase",
     "narrowphase",
     "waking",
+    "warm-start lookup",
     "contact preparation",
+    "colouring and packing",
     "substeps",
+    "projection",
     "finish",
 )
 ALL = len(STAGES)
@@ -179,15 +190,21 @@ def _stages(state, layout, ctx, w, floats, ints, points_cap, pairs_cap, stages) 
     if ends.shape[0]:
         spring_stability(body, body_i, spring, ends, w, terms, ctx[context.H])
     carry_impulses(contact, contact_i, world_i, w, terms, points, ids, n)
-    prepare(body, w, ctx, terms, points, ids, n)
-    coloured = pipeline.colour(ctx, scratch, n)
     if stages == 5:
+        return n
+    prepare(body, w, ctx, terms, points, ids, n)
+    if stages == 6:
+        return n
+    coloured = pipeline.colour(ctx, scratch, n)
+    if stages == 7:
         return n
     n_moving = list_moving(terms, scratch.moving)
     pipeline.substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
-    if stages == 6:
+    if stages == 8:
         return n
     project_out_of_planes(body, hull, shapes, w, points, ids, n)
+    if stages == 9:
+        return n
     pipeline.finish(state, shapes, ends, sensors, w, ctx, scratch, n, n_moving)
     leaves_envelope(body, body_i, shapes, w)
     return n
@@ -249,7 +266,8 @@ def _case(name: str, world: p2.World, dt: float, steps: int) -> Case:
     """Step ``world`` ``steps`` times, then once more (its runner grows the capacities
     that step needs) to record the reference; ``saved`` is the state in between, with
     the grown capacities."""
-    world.step(dt, steps=steps)
+    if steps:
+        world.step(dt, steps=steps)
     before = world.snapshot()
     world.step(dt)
     after = world.state.copy()
@@ -275,6 +293,24 @@ def pyramid_case(base: int = 20, steps: int = 100) -> Case:
     scene = pyramid(base)
     world, _ = _pyramid_world(scene)
     return _case(f"pyramid base {base}, 1 world, after {steps} steps", world, scene.dt, steps)
+
+
+# Box2D's scenes (``box2d_scenes``) profiled mid-scene: the steps before the profiled one
+# (the pyramids settled on their grounds; the smash just after the heavy box hits).
+BOX2D_STEPS = {"many_pyramids": 60, "smash": 150, "tumbler": 200, "spinner": 200,
+               "joint_grid": 100}  # fmt: skip
+
+
+def box2d_case(name: str) -> Case:
+    """Box2D's benchmark scene ``name`` at its own size, after ``BOX2D_STEPS[name]``
+    steps (``box2d_scenes.scenes``)."""
+    sizes = box2d_scenes.Sizes()
+    build = {row[0]: row[2] for row in box2d_scenes.scenes(sizes)}[name]
+    world, drive = build()
+    for _ in range(BOX2D_STEPS[name]):
+        drive(world)
+        world.step(box2d_scenes.DT)
+    return _case(f"Box2D's {name}, 1 world", world, box2d_scenes.DT, 0)
 
 
 def rain_case(count: int = 4000) -> Case:
@@ -428,9 +464,14 @@ def report(case: Case, prof: Profile, rounds: int) -> None:
     print_table(header, ("<", ">", ">", ">"), rows)
 
 
-def run(worlds: int = 1024, quick: bool = False, stage: Callable[[str], None] | None = None):
+def run(
+    worlds: int = 1024,
+    quick: bool = False,
+    stage: Callable[[str], None] | None = None,
+    box2d: tuple[str, ...] = (),
+):
     """Profile the four scenes and print their tables (``quick``: fewer worlds, a smaller
-    rain, fewer rounds)."""
+    rain, fewer rounds); with ``box2d``, those of Box2D's scenes instead."""
     say = stage or (lambda text: None)
     rounds = 3 if quick else ROUNDS
     print(
@@ -445,6 +486,8 @@ def run(worlds: int = 1024, quick: bool = False, stage: Callable[[str], None] | 
         pyramid_case,
         lambda: rain_case(1000 if quick else 4000),
     ]
+    if box2d:
+        builders = [lambda name=name: box2d_case(name) for name in box2d]
     old = numba.get_num_threads()
     try:
         for build in builders:
@@ -464,6 +507,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--worlds", type=int, default=1024, help="worlds of the pool batch")
     parser.add_argument("--quick", action="store_true", help="64 worlds, rain of 1,000")
     parser.add_argument("--no-progress", action="store_true", help="no progress output")
+    parser.add_argument(
+        "--box2d", nargs="+", choices=list(BOX2D_STEPS), default=(),
+        help="profile these of Box2D's scenes (box2d_scenes.py) instead",
+    )  # fmt: skip
     args = parser.parse_args(argv)
     if args.worlds < 2:
         parser.error(f"--worlds must be >= 2 (the single world is profiled too), got {args.worlds}")
@@ -473,7 +520,7 @@ def main(argv: list[str] | None = None) -> None:
         if not args.no_progress:
             print(f"... {text}", file=sys.stderr, flush=True)
 
-    run(worlds, args.quick, stage)
+    run(worlds, args.quick, stage, tuple(args.box2d))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@ impulse2d's solver (``core.solver.sweep``) walks 35-float64 point rows and 30-fl
 rows in order, one point at a time. This probe times the pass that matters most, the
 biased solve of a substep (normals, then friction within the cone), on the contacts of a
 real step: Box2D's 20-row pyramid (210 boxes) after 100 steps, copied out of
-``pipeline.step_world`` just before its substeps (``profile_step``'s kernel, stages 1-5).
+``pipeline.step_world`` just before its substeps (``profile_step``'s kernel, its stages up to
+the colouring and packing).
 
 Kernels (``bench/solver_probe_kernels.py``); each runs ``--passes`` passes over the same
 constraints, and the figure is the median of ``--rounds`` timed calls over points x passes:
@@ -76,12 +77,12 @@ from impulse2d.core.workspace import (
 
 try:
     from bench import solver_probe_kernels as kernels
-    from bench.profile_step import _arrays, _stages, pool_single_case, pyramid_case
+    from bench.profile_step import STAGES, _arrays, _stages, pool_single_case, pyramid_case
     from bench.report import fmt, print_table
     from bench.solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
 except ImportError:
     import solver_probe_kernels as kernels
-    from profile_step import _arrays, _stages, pool_single_case, pyramid_case
+    from profile_step import STAGES, _arrays, _stages, pool_single_case, pyramid_case
     from report import fmt, print_table
     from solver_probe_kernels import LANE_F, body_states, colour, manifolds, pad_colours
 
@@ -107,7 +108,7 @@ def engine_coloured(body, ctx, terms, points, ids, n, passes, floats, ints):
     load_states(body, 0, terms, states)
     for _ in range(passes):  # as pipeline.substeps: the states loaded, solved, stored
         load_moving(body, 0, terms, states, moving, moving_count)
-        solve_coloured(states, values, ids, floats, ints)
+        solve_coloured(states, values, floats, ints)
         store_states(body, 0, states, moving, moving_count)
         solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count)
     unpack_step(points, floats, ints, count)
@@ -122,6 +123,7 @@ SCENES = {
 
 
 SCENES_SAID = {"pyramid": "20 rows, step 101", "pool": "16-ball break, step 11"}
+BEFORE_SUBSTEPS = STAGES.index("colouring and packing") + 1  # profile_step's stages to run
 
 
 def capture(scene: str = "pyramid") -> dict:
@@ -132,7 +134,7 @@ def capture(scene: str = "pyramid") -> dict:
     space = Workspace(1, case.saved.body.shape[1], int(caps[0]), int(caps[1]))
     ctx = case.world.settings.step_context(case.dt)
     n = _stages(state, case.world.layout.rows, ctx, 0, space.floats[0], space.ints[0],
-                int(caps[0]), int(caps[1]), 5)  # fmt: skip
+                int(caps[0]), int(caps[1]), BEFORE_SUBSTEPS)  # fmt: skip
     scratch = views(space.floats[0], space.ints[0], state[0].shape[1], int(caps[0]), int(caps[1]))
     points = scratch.points[:n].copy()
     points[points[:, AGAINST_PLANE] == IN_COLOUR, AGAINST_PLANE] = 0.0  # as the narrowphase

@@ -48,6 +48,7 @@ def _colour(terms, points, ids, n, floats, ints, repeats):
     for _ in range(repeats):
         count = colouring.colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours,
                                            c.order, c.starts)  # fmt: skip
+        colouring.pair_bodies(ids, c.order, count, c.body_a, c.body_b)
     return count
 
 
@@ -69,7 +70,7 @@ def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats
     for _ in range(repeats):
         if rest < n:  # as pipeline.substeps: the body states loaded, solved, stored
             lanes.load_moving(body, 0, terms, states, moving, count)
-            lanes.solve_coloured(states, values, ids, floats, ints)
+            lanes.solve_coloured(states, values, floats, ints)
             lanes.store_states(body, 0, states, moving, count)
         solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest)
 
@@ -81,11 +82,11 @@ def _warm(body, points, ids, n, repeats):
 
 
 @numba.njit(nogil=True)
-def _warm_coloured(body, terms, ids, floats, ints, count, repeats):
+def _warm_coloured(body, terms, floats, ints, count, repeats):
     states = np.zeros((terms.shape[0], STATE_F))
     lanes.load_states(body, 0, terms, states)
     for _ in range(repeats):  # (in the engine, between the loading and the solve pass)
-        lanes.warm_start_coloured(states, ids, floats, ints, count)
+        lanes.warm_start_coloured(states, floats, ints, count)
 
 
 @numba.njit(nogil=True)
@@ -95,9 +96,9 @@ def _follow(body, ctx, terms, points, ids, n, repeats):
 
 
 @numba.njit(nogil=True)
-def _follow_coloured(body, ids, floats, ints, count, repeats):
+def _follow_coloured(body, floats, ints, count, repeats):
     for _ in range(repeats):
-        lanes.follow_coloured(body, 0, ids, floats, ints, count)
+        lanes.follow_coloured(body, 0, floats, ints, count)
 
 
 def _ns(call, repeats: int, points: int) -> float:
@@ -129,12 +130,10 @@ def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
         ("relax pass, coloured", lambda r: _sweep(body, ctx, terms, points, ids, n, False,
                                                   floats, ints, rest, r)),
         ("warm start, plain order", lambda r: _warm(body, plain_points, ids, n, r)),
-        ("warm start, coloured", lambda r: _warm_coloured(body, terms, ids, floats, ints, count,
-                                                          r)),
+        ("warm start, coloured", lambda r: _warm_coloured(body, terms, floats, ints, count, r)),
         ("anchors follow, plain order", lambda r: _follow(body, ctx, terms, plain_points, ids,
                                                           n, r)),
-        ("anchors follow, coloured", lambda r: _follow_coloured(body, ids, floats, ints, count,
-                                                                r)),
+        ("anchors follow, coloured", lambda r: _follow_coloured(body, floats, ints, count, r)),
         ("colouring (once a step)", lambda r: _colour(terms, points, ids, n, floats, ints, r)),
         ("packing (once a step)", lambda r: _pack(points, floats, ints, count, threshold, r)),
     ]  # fmt: skip

@@ -110,6 +110,34 @@ def test_a_stack_alternates_colours_and_its_ground_takes_the_top_colour():
     _assert_valid(ids, terms, order, starts)
 
 
+def test_a_colour_step_lists_each_manifolds_bodies_in_colour_order():
+    """``pair_bodies``: the passes read a manifold's bodies from ``body_a``, ``body_b``
+    at its place in colour order, which must be its first point's ids."""
+    pairs = [(i, i + 1, 2, UP, False) for i in range(6)] + [(0, 7, 2, UP, False)]
+    points, ids, terms = _points(pairs, 8, movable=[0, 1, 1, 1, 1, 1, 1, 1])
+    floats, ints = colour_scratch(len(terms), len(points))
+    count = colouring.colour_step(terms, points, ids, len(points), floats, ints, 1.0)
+    c = colouring.colour_arrays(floats, ints)
+    assert count == 7
+    np.testing.assert_array_equal(c.body_a[:count], ids[c.order[:count], 0])
+    np.testing.assert_array_equal(c.body_b[:count], ids[c.order[:count], 1])
+    listed = zip(c.body_a[:count].tolist(), c.body_b[:count].tolist(), strict=True)
+    assert sorted(listed) == sorted((a, b) for a, b, *_ in pairs)
+
+
+@pytest.mark.parametrize("points", [2, 64, 1000, 1 << 12, 1 << 17])
+def test_constraint_rows_hold_every_manifold_and_are_an_odd_number_of_cache_lines(points):
+    """A row of ``con`` and ``lanes`` holds every manifold the points can make, and is an
+    odd number of 64-byte lines long, so the ~46 rows a lane reads at one index fall in
+    different cache sets (``manifold_room``)."""
+    room = manifold_room(points)
+    assert room >= points // 2 + 1
+    assert room % 8 == 0 and (room // 8) % 2 == 1
+    assert room - (points // 2 + 1) < 16  # at most two lines over
+    floats, _ = colour_scratch(4, points)
+    assert floats.strides[0] % 128 == 64
+
+
 def test_only_two_point_manifolds_between_bodies_with_one_normal_are_coloured():
     pairs = [
         (0, 1, 1, UP, False),  # one point (a disc)
@@ -202,7 +230,7 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     states = np.zeros((terms.shape[0], STATE_F))
     moving = np.zeros(terms.shape[0], np.int64)
     lanes.load_states(body, 0, terms, states)
-    lanes.solve_coloured(states, values, ids, floats, ints)
+    lanes.solve_coloured(states, values, floats, ints)
     lanes.store_states(body, 0, states, moving, integrate.list_moving(terms, moving))
     solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0)  # nothing left
     colouring.unpack_step(points, floats, ints, count)

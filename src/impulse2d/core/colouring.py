@@ -225,6 +225,8 @@ class Coloured(NamedTuple):
     con: np.ndarray  # (CON_F, M) their constraints (workspace.CON_F)
     lanes: np.ndarray  # (LANE_F, M) a colour's bodies gathered (lanes.py)
     order: np.ndarray  # (M,) each manifold's first point, in colour order
+    body_a: np.ndarray  # (M,) each manifold's body A, in colour order (``pair_bodies``)
+    body_b: np.ndarray  # (M,) ... and its body B
     starts: np.ndarray  # (COLOURS + 1,) where each colour begins in ``order``
     found: np.ndarray  # (M,) scratch of the colouring: first points in narrowphase order
     colours: np.ndarray  # (M,) ... and their colours
@@ -235,23 +237,34 @@ class Coloured(NamedTuple):
 def colour_arrays(colour_floats, colour_ints):
     """``Scratch.colour_floats`` and ``colour_ints`` (``workspace.colour_sizes``) cut into
     a ``Coloured``: ``con`` and ``lanes`` from the floats, then ``order``, ``found``,
-    ``colours``, ``starts`` and ``masks`` from the ints."""
+    ``colours``, ``body_a``, ``body_b``, ``starts`` and ``masks`` from the ints."""
     m = colour_floats.shape[1]
     con, lanes = colour_floats[:CON_F], colour_floats[CON_F:]  # rows: no reshape (on a GPU
     # a world's scratch is strided, which numba cannot reshape)
     order, found, colours = colour_ints[:m], colour_ints[m : 2 * m], colour_ints[2 * m : 3 * m]
-    at = 3 * m + COLOURS + 1
-    starts, masks = colour_ints[3 * m : at], colour_ints[at:]
-    return Coloured(con, lanes, order, starts, found, colours, masks)
+    body_a, body_b = colour_ints[3 * m : 4 * m], colour_ints[4 * m : 5 * m]
+    at = 5 * m + COLOURS + 1
+    starts, masks = colour_ints[5 * m : at], colour_ints[at:]
+    return Coloured(con, lanes, order, body_a, body_b, starts, found, colours, masks)
+
+
+@kernel
+def pair_bodies(ids, order, count, body_a, body_b) -> None:
+    """The two bodies of each of the ``count`` coloured manifolds, in colour order: the
+    passes read them from these two arrays front to back, not from the point rows of
+    ``order``, whose rows lie wherever the narrowphase put them."""
+    for m in range(count):
+        body_a[m], body_b[m] = ids[order[m], 0], ids[order[m], 1]
 
 
 @kernel
 def colour_step(terms, points, ids, n, colour_floats, colour_ints, threshold) -> int:
-    """Colour the world's manifolds and pack them (``colour_manifolds``, ``pack``);
-    returns how many were coloured."""
+    """Colour the world's manifolds, list their bodies and pack them
+    (``colour_manifolds``, ``pair_bodies``, ``pack``); returns how many were coloured."""
     c = colour_arrays(colour_floats, colour_ints)
     count = colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours, c.order,
                              c.starts)  # fmt: skip
+    pair_bodies(ids, c.order, count, c.body_a, c.body_b)
     pack(points, c.order, count, c.con, threshold)
     return count
 

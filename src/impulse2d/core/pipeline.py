@@ -194,8 +194,8 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
             solve_joints(body, body_i, spring, ends, w, ctx, terms, True)
         if coloured:
             load_moving(body, w, terms, states, slots, n_moving)
-            warm_start_coloured(states, ids, floats, ints, coloured)
-            solve_coloured(states, biased, ids, floats, ints)
+            warm_start_coloured(states, floats, ints, coloured)
+            solve_coloured(states, biased, floats, ints)
             store_states(body, w, states, slots, n_moving)
         solve(body, w, ctx, terms, points, ids, n, rest)
         integrate_positions(body, w, h, slots, n_moving)
@@ -204,9 +204,9 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
         if rest:
             follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
         if coloured:
-            follow_coloured(body, w, ids, floats, ints, coloured)
+            follow_coloured(body, w, floats, ints, coloured)
             load_moving(body, w, terms, states, slots, n_moving)
-            solve_coloured(states, unbiased, ids, floats, ints)
+            solve_coloured(states, unbiased, floats, ints)
             store_states(body, w, states, slots, n_moving)
         relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest)
     if coloured:  # the coloured points' impulses, back where the rest read them

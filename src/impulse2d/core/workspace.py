@@ -132,8 +132,19 @@ LANE_F = 12
 
 @inline
 def manifold_room(points: int) -> int:
-    """How many two-point manifolds ``points`` points can make (with one to spare)."""
-    return points // 2 + 1
+    """How many two-point manifolds ``points`` points can make (with one to spare), as
+    the length of a ``con`` and ``lanes`` row: rounded up to an odd number of 8-float
+    cache lines.
+
+    Why odd: a lane loop reads ~46 rows at one index ``m``, addresses a row length
+    apart. Point capacities are powers of two, so an unpadded row is a power of two of
+    bytes long and every one of those reads falls in the same set of the L1 and L2
+    caches (their set is the address's bits 6-11 and 6-16): 46 lines in a 12- or 16-way
+    set evict each other before the next lanes use them. A row of an odd number of lines
+    puts row ``f``'s line in set ``f * odd mod sets``, a different set for each of them.
+    Only where numbers lie changes, so no result does."""
+    lines = (points // 2 + 1 + 7) // 8
+    return 8 * (lines + 1 - lines % 2)
 
 
 @inline
@@ -141,7 +152,7 @@ def colour_sizes(bodies: int, points: int) -> tuple[int, int]:
     """Lengths of the coloured manifolds' float and int scratch (``Scratch.colour_floats``,
     ``colour_ints``; ``colouring.colour_arrays`` cuts them)."""
     manifolds = manifold_room(points)
-    return (CON_F + LANE_F) * manifolds, 3 * manifolds + (COLOURS + 1) + bodies
+    return (CON_F + LANE_F) * manifolds, 5 * manifolds + (COLOURS + 1) + bodies
 
 
 def colour_scratch(bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
