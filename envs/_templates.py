@@ -172,30 +172,37 @@ SPLITS: dict[str, tuple[str, ...]] = {
 """The fixed split: templates to train on, templates held out, and all of them."""
 
 
-def template_names(templates: Any) -> tuple[str, ...]:
+def template_names(
+    templates: Any,
+    library: dict[str, Template] = TEMPLATES,
+    splits: dict[str, tuple[str, ...]] = SPLITS,
+) -> tuple[str, ...]:
     """Checked template names: a split's name (``"train"``, ``"held-out"``, ``"all"``) or a
-    non-empty sequence of distinct template names."""
+    non-empty sequence of distinct template names, of ``library`` and its ``splits``
+    (v0's by default; Slingshot2DBlocks-v0 passes its own, ``_block_templates``)."""
     if isinstance(templates, str):
-        if templates in SPLITS:
-            return SPLITS[templates]
-        if templates in TEMPLATES:
+        if templates in splits:
+            return splits[templates]
+        if templates in library:
             return (templates,)
         raise ValueError(
-            f"templates must be a split ({', '.join(SPLITS)}), a template name "
-            f"({', '.join(TEMPLATES)}) or a sequence of template names, got {templates!r}"
+            f"templates must be a split ({', '.join(splits)}), a template name "
+            f"({', '.join(library)}) or a sequence of template names, got {templates!r}"
         )
     names = tuple(templates) if isinstance(templates, Sequence) else None
-    if not names or any(not isinstance(n, str) or n not in TEMPLATES for n in names):
+    if not names or any(not isinstance(n, str) or n not in library for n in names):
         raise ValueError(
-            f"templates must be a split ({', '.join(SPLITS)}) or a non-empty sequence of "
-            f"template names ({', '.join(TEMPLATES)}), got {templates!r}"
+            f"templates must be a split ({', '.join(splits)}) or a non-empty sequence of "
+            f"template names ({', '.join(library)}), got {templates!r}"
         )
     if len(set(names)) != len(names):
         raise ValueError(f"templates must name each template once, got {templates!r}")
     return names
 
 
-def template_level(names: tuple[str, ...], seed: int) -> Level:
-    """Level seed ``seed`` of the templates ``names``: template ``names[seed % n]``, its
-    parameters drawn from ``np.random.default_rng(seed)``."""
-    return TEMPLATES[names[seed % len(names)]](np.random.default_rng(seed))
+def template_level(
+    names: tuple[str, ...], seed: int, library: dict[str, Template] = TEMPLATES
+) -> Level:
+    """Level seed ``seed`` of the templates ``names`` (of ``library``): template
+    ``names[seed % n]``, its parameters drawn from ``np.random.default_rng(seed)``."""
+    return library[names[seed % len(names)]](np.random.default_rng(seed))

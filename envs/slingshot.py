@@ -71,6 +71,7 @@ class SlingshotGame(ShotGame):
 
     level_names = LEVELS
     handmade = _levels.HANDMADE
+    template_library, template_splits = _templates.TEMPLATES, _templates.SPLITS
     per_world = ("max_health", "_in_level", "material", "birds_left", "_alive_before")
 
     def __init__(
@@ -87,7 +88,8 @@ class SlingshotGame(ShotGame):
         batch_size = check_num_envs(batch_size)
         self.level = _checks.word("level", level, self.level_names)
         self.num_levels, self.start_level = _level_seeds(self.level, num_levels, start_level)
-        self.templates = _template_choice(self.level, templates)
+        self.templates = _template_choice(self.level, templates, self.template_library,
+                                          self.template_splits)  # fmt: skip
         self.num_birds = _checks.int_in("num_birds", num_birds, 1, 10)
         max_shot_steps = shot_steps(max_shot_seconds, DT)
         world, self.bird, self.pigs, self.blocks = self._build(batch_size, device)
@@ -181,7 +183,7 @@ class SlingshotGame(ShotGame):
     def _pick_level(self, rng: np.random.Generator) -> _levels.Level:
         if self.level == "templates":
             seed = self.start_level + int(rng.integers(self.num_levels or 2**62))
-            return _templates.template_level(self.templates, seed)
+            return _templates.template_level(self.templates, seed, self.template_library)
         if self.level == "random" and self.num_levels:
             seed = self.start_level + int(rng.integers(self.num_levels))
             return self._random_level(np.random.default_rng(seed))
@@ -468,14 +470,15 @@ def _sling(canvas: np.ndarray, to_pixels: Any, scale: float) -> None:
         raster.segment(canvas, x1, y1, x2, y2, width, wood)
 
 
-def _template_choice(level: str, templates: Any) -> tuple[str, ...]:
-    """The templates of ``level="templates"`` (``None``: the train split); none for the
-    other levels, where naming templates is refused rather than ignored."""
+def _template_choice(level: str, templates: Any, library: dict, splits: dict) -> tuple[str, ...]:
+    """The templates of ``level="templates"`` (``None``: the train split) from the game's
+    ``library`` and ``splits``; none for the other levels, where naming templates is
+    refused rather than ignored."""
     if level != "templates":
         if templates is not None:
             raise ValueError(f"templates needs level='templates', got level={level!r}")
         return ()
-    return _templates.template_names("train" if templates is None else templates)
+    return _templates.template_names("train" if templates is None else templates, library, splits)
 
 
 def _level_seeds(level: str, num_levels: Any, start_level: Any) -> tuple[int, int]:

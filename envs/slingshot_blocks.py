@@ -14,7 +14,7 @@ import numpy as np
 
 import impulse2d as p2
 
-from . import _blocks, _levels
+from . import _block_templates, _blocks, _levels
 from ._levels import MATERIALS
 from .callshot import SlingshotCallShot, SlingshotCallShotVector
 from .slingshot import (
@@ -39,6 +39,7 @@ class SlingshotBlocksGame(SlingshotGame):
 
     level_names = LEVELS
     handmade = _blocks.HANDMADE_BLOCKS
+    template_library, template_splits = _block_templates.TEMPLATES, _block_templates.SPLITS
 
     @staticmethod
     def _add_blocks(world: p2.World) -> list:
@@ -82,7 +83,11 @@ class Slingshot2DBlocksEnv(Slingshot2DEnv):
     Birds' glass). `level="handmade"` draws from v0's five hand-made levels and
     `"hut"`, `"boulder"` and `"ramparts"`; generated levels (`level="random"`) add
     roofs to towers, stones to columns, and ramparts (a wedge, a pig, a boulder):
-    `impulse2d.envs._blocks`. `level="templates"` plays v0's templates and split.
+    `impulse2d.envs._blocks`. `level="templates"` plays v0's ten templates and six with
+    the new blocks (`impulse2d.envs._block_templates`: a roofed tower, a boulder on a
+    column, ramparts, a rolling stone; held out, a village of roofed huts and a fort),
+    split as v0's are: `templates="train"` (default) is v0's seven and four new ones,
+    `"held-out"` v0's three and `village` and `fort`.
 
     ## Observation Space
     v0's nine numbers for each of 34 slots, then the birds left (307 numbers): 4 pigs
