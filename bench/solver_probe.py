@@ -59,7 +59,7 @@ import numba
 import numpy as np
 
 from impulse2d.core import context, solver
-from impulse2d.core.colouring import colour_step, unpack_step
+from impulse2d.core.colouring import colour_arrays, colour_step, unpack_step
 from impulse2d.core.integrate import list_moving
 from impulse2d.core.lanes import load_moving, load_states, solve_coloured, store_states
 from impulse2d.core.state import INV_MASS
@@ -92,7 +92,7 @@ def today(body, ctx, terms, points, ids, n, passes):
     """``passes`` biased sweeps of the engine's plain-order solver over world 0's points
     (nothing coloured: every point left to the sweep)."""
     for _ in range(passes):
-        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n, np.zeros(0, np.int64))
 
 
 @numba.njit(nogil=True)
@@ -105,12 +105,13 @@ def engine_coloured(body, ctx, terms, points, ids, n, passes, floats, ints):
     states = np.zeros((terms.shape[0], STATE_F))
     moving = np.zeros(terms.shape[0], np.int64)
     moving_count = list_moving(terms, moving)
+    others = colour_arrays(floats, ints).others
     load_states(body, 0, terms, states)
     for _ in range(passes):  # as pipeline.substeps: the states loaded, solved, stored
         load_moving(body, 0, terms, states, moving, moving_count)
         solve_coloured(states, values, floats, ints)
         store_states(body, 0, states, moving, moving_count)
-        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, True, False, n - 2 * count, others)
     unpack_step(points, floats, ints, count)
 
 

@@ -47,7 +47,7 @@ def _colour(terms, points, ids, n, floats, ints, repeats):
     count = 0
     for _ in range(repeats):
         count = colouring.colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours,
-                                           c.order, c.starts)  # fmt: skip
+                                           c.order, c.starts, c.others)  # fmt: skip
         colouring.pair_bodies(ids, c.order, count, c.body_a, c.body_b)
     return count
 
@@ -65,6 +65,7 @@ def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats
     states = np.zeros((terms.shape[0], STATE_F))
     moving = np.zeros(terms.shape[0], np.int64)
     count = integrate.list_moving(terms, moving)
+    others = colouring.colour_arrays(floats, ints).others if rest < n else ints[:0]
     if rest < n:
         lanes.load_states(body, 0, terms, states)
     for _ in range(repeats):
@@ -72,13 +73,13 @@ def _sweep(body, ctx, terms, points, ids, n, biased, floats, ints, rest, repeats
             lanes.load_moving(body, 0, terms, states, moving, count)
             lanes.solve_coloured(states, values, floats, ints)
             lanes.store_states(body, 0, states, moving, count)
-        solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest)
+        solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, rest, others)
 
 
 @numba.njit(nogil=True)
 def _warm(body, points, ids, n, repeats):
     for _ in range(repeats):
-        solver.warm_start(body, 0, points, ids, n, False)
+        solver.warm_start(body, 0, points, ids, n, np.zeros(0, np.int64))
 
 
 @numba.njit(nogil=True)
@@ -92,7 +93,7 @@ def _warm_coloured(body, terms, floats, ints, count, repeats):
 @numba.njit(nogil=True)
 def _follow(body, ctx, terms, points, ids, n, repeats):
     for _ in range(repeats):
-        contacts.follow_bodies(body, 0, ctx, terms, points, ids, n, False)
+        contacts.follow_bodies(body, 0, ctx, terms, points, ids, n, np.zeros(0, np.int64))
 
 
 @numba.njit(nogil=True)

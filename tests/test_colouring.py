@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import impulse2d as p2
-from impulse2d.core import colouring, context, integrate, lanes, solver
+from impulse2d.core import colouring, contacts, context, integrate, lanes, solver
 from impulse2d.core.contacts import set_jacobian
 from impulse2d.core.state import ANGLE, BODY_F, OMEGA, VX, VY, X, Y
 from impulse2d.core.workspace import (
@@ -38,6 +38,7 @@ from impulse2d.core.workspace import (
     MOVABLE,
     MOVING,
     NORMAL_J,
+    NORMAL_MASS,
     NX,
     NY,
     PNORMAL_J,
@@ -49,11 +50,16 @@ from impulse2d.core.workspace import (
     RAY,
     RBX,
     RBY,
+    RNA,
+    RNB,
+    RTA,
+    RTB,
     SEP0,
     SHARED,
     STATE_F,
     STEP_J,
     TANGENT_J,
+    TANGENT_MASS,
     TERMS,
     colour_scratch,
     manifold_room,
@@ -81,10 +87,20 @@ def _colour(points, ids, terms):
     n, m = len(points), manifold_room(len(points))
     masks = np.zeros(len(terms), np.int64)
     found, colours, order = (np.zeros(m, np.int64) for _ in range(3))
-    starts = np.zeros(COLOURS + 1, np.int64)
-    count = colouring.colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts)
+    starts, others = np.zeros(COLOURS + 1, np.int64), np.full(2 * m, -1)
+    count = colouring.colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts,
+                                       others)  # fmt: skip
     of = {int(order[i]): c for c in range(COLOURS) for i in range(starts[c], starts[c + 1])}
+    _assert_others(points, ids, n, others)
     return count, order[:count], starts, of
+
+
+def _assert_others(points, ids, n, others):
+    """``others`` lists the first point of every manifold not coloured, in narrowphase
+    order, then ``n``: what the plain passes walk (``colouring.pair_at``)."""
+    firsts = [k for k in range(n) if k == 0 or tuple(ids[k, :2]) != tuple(ids[k - 1, :2])]
+    expected = [k for k in firsts if points[k, AGAINST_PLANE] != IN_COLOUR] + [n]
+    assert others[: len(expected)].tolist() == expected
 
 
 UP = (0.0, 1.0)
@@ -152,7 +168,7 @@ def test_only_two_point_manifolds_between_bodies_with_one_normal_are_coloured():
     assert count == 0 and not (points[:, AGAINST_PLANE] == IN_COLOUR).any()
     points[1 + 3 + 2 + 1, NX] = 0.0
     count, order, _, _ = _colour(points, ids, terms)
-    assert count == 1 and list(order) == [6]
+    assert count == 1 and list(order) == [6]  # others: [0, 1, 4, 8, 10] (_assert_others)
     assert points[:, AGAINST_PLANE].tolist() == [0.0] * 4 + [1.0, 1.0, IN_COLOUR, IN_COLOUR, 0, 0]
 
 
@@ -171,6 +187,61 @@ def test_what_finds_no_colour_stays_in_plain_order():
     count, order, starts, of = _colour(points, ids, terms)
     assert count == COLOURS - 1 and sorted(of.values()) == list(range(1, COLOURS))
     _assert_valid(ids, terms, order, starts)
+
+
+@st.composite
+def mixed_worlds(draw):
+    """A world's pairs of every kind (discs, boxes, three points, against planes, fixed
+    bodies), in random order, with random prepared columns."""
+    kinds = st.tuples(st.integers(1, 3), st.booleans(), st.booleans())
+    drawn = draw(st.lists(kinds, min_size=1, max_size=30))
+    bodies = len(drawn) + 2
+    pairs = [(i % bodies, (i + 1) % bodies, count, UP, plane)
+             for i, (count, plane, _) in enumerate(drawn)]  # fmt: skip
+    movable = [1.0] + [0.0 if fixed else 1.0 for *_, fixed in drawn] + [1.0]
+    points, ids, terms = _points(pairs, bodies, movable)
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    for column in (SEP0, RNA, RNB, RTA, RTB, NORMAL_J, TANGENT_J):
+        points[:, column] = rng.uniform(-0.1, 0.1, len(points))
+    for column in (IMA, IMB, IIA, IIB, NORMAL_MASS, TANGENT_MASS, MIXED_FRICTION):
+        points[:, column] = rng.uniform(0.1, 1.0, len(points))
+    points[:, MASS_SCALE], points[:, IMPULSE_SCALE], points[:, BIAS_RATE] = 0.9, 0.1, 30.0
+    body = np.zeros((1, bodies, BODY_F))
+    body[0, :, [VX, VY, OMEGA]] = rng.uniform(-1.0, 1.0, (3, bodies))
+    return body, terms, points, ids
+
+
+@settings(max_examples=60, deadline=None)
+@given(mixed_worlds(), st.booleans())
+def test_the_plain_passes_of_a_coloured_world_walk_exactly_its_other_pairs(world, biased):
+    """In a coloured world the plain passes walk the pairs ``others`` lists
+    (``colouring.pair_at``): the sweep must match the sweep over every pair (which skips
+    the coloured ones itself), bitwise; and warm starting and moving the anchors must
+    leave the coloured points alone (here given no impulse and an immovable body, so
+    the full walk leaves them alone too)."""
+    body, terms, points, ids = world
+    n = len(points)
+    floats, ints = colour_scratch(len(terms), n)
+    count = colouring.colour_step(terms, points, ids, n, floats, ints, 1.0)
+    others = colouring.colour_arrays(floats, ints).others
+    ctx = np.zeros(context.CONTEXT_SIZE)
+    ctx[context.INV_H], ctx[context.PUSH_SPEED], ctx[context.COLOUR_FROM] = 240.0, 3.0, 1.0
+    everything = np.zeros(0, np.int64)
+    listed_body, listed_points = body.copy(), points.copy()
+    solver.sweep(body, 0, ctx, terms, points, ids, n, biased, False, n - 2 * count, everything)
+    solver.sweep(listed_body, 0, ctx, terms, listed_points, ids, n, biased, False,
+                 n - 2 * count, others)  # fmt: skip
+    assert body.tobytes() == listed_body.tobytes()
+    assert points.tobytes() == listed_points.tobytes()
+    coloured = points[:, AGAINST_PLANE] == IN_COLOUR
+    points[coloured, NORMAL_J] = points[coloured, TANGENT_J] = points[coloured, IMA] = 0.0
+    listed_points = points.copy()
+    solver.warm_start(body, 0, points, ids, n, everything)
+    solver.warm_start(listed_body, 0, listed_points, ids, n, others)
+    contacts.follow_bodies(body, 0, ctx, terms, points, ids, n, everything)
+    contacts.follow_bodies(listed_body, 0, ctx, terms, listed_points, ids, n, others)
+    assert body.tobytes() == listed_body.tobytes()
+    assert points.tobytes() == listed_points.tobytes()
 
 
 @st.composite
@@ -223,7 +294,8 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     deltas) must give the plain sweep's impulses and velocities, to rounding."""
     body, terms, points, ids, ctx, biased = case
     plain_body, plain_points = body.copy(), points.copy()
-    solver.sweep(plain_body, 0, ctx, terms, plain_points, ids, 2, biased, False, 2)
+    solver.sweep(plain_body, 0, ctx, terms, plain_points, ids, 2, biased, False, 2,
+                 np.zeros(0, np.int64))  # fmt: skip
     floats, ints, count = _coloured(points, ids, terms)
     assert count == 1 and (points[:, AGAINST_PLANE] == IN_COLOUR).all()
     values = (ctx[context.INV_H], ctx[context.PUSH_SPEED], biased)
@@ -232,7 +304,8 @@ def test_a_lane_solves_a_manifold_as_the_plain_sweep_does(case):
     lanes.load_states(body, 0, terms, states)
     lanes.solve_coloured(states, values, floats, ints)
     lanes.store_states(body, 0, states, moving, integrate.list_moving(terms, moving))
-    solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0)  # nothing left
+    others = colouring.colour_arrays(floats, ints).others
+    solver.sweep(body, 0, ctx, terms, points, ids, 2, biased, False, 0, others)  # nothing left
     colouring.unpack_step(points, floats, ints, count)
     for column in (NORMAL_J, TANGENT_J, STEP_J, MAX_J, GROSS_J):
         np.testing.assert_allclose(points[:, column], plain_points[:, column], rtol=1e-9,

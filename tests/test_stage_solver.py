@@ -26,6 +26,7 @@ from impulse2d.core.workspace import (
 
 DT = 1 / 60
 G = 9.81
+NONE_LISTED = np.zeros(0, np.int64)  # a world not coloured: the plain passes walk every pair
 ZERO_G = (0.0, 0.0)
 
 
@@ -67,9 +68,9 @@ def solve(step: SimpleNamespace, use_bias: bool) -> None:
     order (nothing coloured: ``tests/test_colouring.py`` takes the coloured passes)."""
     args = (step.body, 0, step.ctx, step.terms, step.points, step.ids, step.n)
     if use_bias:
-        solver.solve(*args, step.n)  # every point left to the sweep
+        solver.solve(*args, step.n, NONE_LISTED)  # every point left to the sweep
     else:
-        solver.relax(*args, False, step.n)
+        solver.relax(*args, False, step.n, NONE_LISTED)
 
 
 def momentum(world: p2.World) -> np.ndarray:

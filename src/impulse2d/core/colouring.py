@@ -141,6 +141,15 @@ def manifold_end(ids, n, start) -> int:
 
 
 @inline
+def pair_at(others, p, end) -> int:
+    """The first point of the ``p``-th pair a plain pass visits: in a coloured world
+    ``others[p]`` (its pairs that are not coloured, then ``n``:
+    ``colouring.colour_manifolds``), else ``end``, the end of the pair before (every
+    pair, in order; ``others`` is empty)."""
+    return others[p] if others.shape[0] else end
+
+
+@inline
 def colourable(terms, points, ids, n, start, end) -> bool:
     """Two points of two bodies, not against a plane, one normal, one of them moving."""
     if end - start != 2 or points[start, AGAINST_PLANE] == 1.0:
@@ -165,16 +174,22 @@ def free_colour(taken, lowest, highest, step) -> int:
 
 
 @kernel
-def colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts) -> int:
+def colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts,
+                     others) -> int:  # fmt: skip
     """Colour the world's colourable manifolds (module docstring); returns how many.
 
     ``masks`` (N,) int64: scratch, the colours each body is in; ``found``, ``colours``
     (M,): scratch, each coloured manifold's first point and colour in narrowphase order;
     ``order`` (M,): the first point of each manifold in colour order; ``starts``
-    (COLOURS + 1,): where each colour begins in ``order``. Every point not against a
-    plane gets ``AGAINST_PLANE`` = ``IN_COLOUR`` if its manifold is coloured, else 0."""
+    (COLOURS + 1,): where each colour begins in ``order``; ``others`` (at least as long
+    as the manifolds not coloured, plus one): the first point of each of those in
+    narrowphase order, then ``n`` (the plain passes walk it: in a large world most
+    manifolds are coloured, and scanning all the points to skip them cost more than the
+    passes over the others). Every point not against a plane gets ``AGAINST_PLANE`` =
+    ``IN_COLOUR`` if its manifold is coloured, else 0."""
     masks[:] = 0
     count = 0
+    listed = 0
     start = 0
     while start < n:
         end = manifold_end(ids, n, start)
@@ -193,10 +208,14 @@ def colour_manifolds(terms, points, ids, n, masks, found, colours, order, starts
                 masks[b] |= bit if moves_b else 0
                 found[count], colours[count] = start, colour
                 count += 1
+        if colour < 0:
+            others[listed] = start
+            listed += 1
         for k in range(start, end):
             if points[k, AGAINST_PLANE] != 1.0:
                 points[k, AGAINST_PLANE] = IN_COLOUR if colour >= 0 else 0.0
         start = end
+    others[listed] = n
     sort_by_colour(found, colours, count, order, starts)
     return count
 
@@ -227,6 +246,8 @@ class Coloured(NamedTuple):
     order: np.ndarray  # (M,) each manifold's first point, in colour order
     body_a: np.ndarray  # (M,) each manifold's body A, in colour order (``pair_bodies``)
     body_b: np.ndarray  # (M,) ... and its body B
+    others: np.ndarray  # (2M,) the first point of each manifold not coloured, ascending,
+    # then the world's point count ``n`` (``colour_manifolds``)
     starts: np.ndarray  # (COLOURS + 1,) where each colour begins in ``order``
     found: np.ndarray  # (M,) scratch of the colouring: first points in narrowphase order
     colours: np.ndarray  # (M,) ... and their colours
@@ -237,15 +258,17 @@ class Coloured(NamedTuple):
 def colour_arrays(colour_floats, colour_ints):
     """``Scratch.colour_floats`` and ``colour_ints`` (``workspace.colour_sizes``) cut into
     a ``Coloured``: ``con`` and ``lanes`` from the floats, then ``order``, ``found``,
-    ``colours``, ``body_a``, ``body_b``, ``starts`` and ``masks`` from the ints."""
+    ``colours``, ``body_a``, ``body_b``, ``others``, ``starts`` and ``masks`` from the
+    ints."""
     m = colour_floats.shape[1]
     con, lanes = colour_floats[:CON_F], colour_floats[CON_F:]  # rows: no reshape (on a GPU
     # a world's scratch is strided, which numba cannot reshape)
     order, found, colours = colour_ints[:m], colour_ints[m : 2 * m], colour_ints[2 * m : 3 * m]
     body_a, body_b = colour_ints[3 * m : 4 * m], colour_ints[4 * m : 5 * m]
-    at = 5 * m + COLOURS + 1
-    starts, masks = colour_ints[5 * m : at], colour_ints[at:]
-    return Coloured(con, lanes, order, body_a, body_b, starts, found, colours, masks)
+    others = colour_ints[5 * m : 7 * m]
+    at = 7 * m + COLOURS + 1
+    starts, masks = colour_ints[7 * m : at], colour_ints[at:]
+    return Coloured(con, lanes, order, body_a, body_b, others, starts, found, colours, masks)
 
 
 @kernel
@@ -263,7 +286,7 @@ def colour_step(terms, points, ids, n, colour_floats, colour_ints, threshold) ->
     (``colour_manifolds``, ``pair_bodies``, ``pack``); returns how many were coloured."""
     c = colour_arrays(colour_floats, colour_ints)
     count = colour_manifolds(terms, points, ids, n, c.masks, c.found, c.colours, c.order,
-                             c.starts)  # fmt: skip
+                             c.starts, c.others)  # fmt: skip
     pair_bodies(ids, c.order, count, c.body_a, c.body_b)
     pack(points, c.order, count, c.con, threshold)
     return count

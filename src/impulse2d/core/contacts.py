@@ -31,6 +31,7 @@ import math
 
 from . import context
 from ._jit import inline, kernel
+from .colouring import manifold_end, pair_at
 from .state import (
     APPROACH,
     BODY_A,
@@ -63,7 +64,6 @@ from .workspace import (
     ACCEL_W,
     ACCEL_X,
     ACCEL_Y,
-    AGAINST_PLANE,
     APPROACH_SPEED,
     BIAS_RATE,
     DRIFT,
@@ -74,7 +74,6 @@ from .workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
-    IN_COLOUR,
     KEEP,
     MASS_SCALE,
     MAX_J,
@@ -228,7 +227,7 @@ def along_line_of_centres(body, w, terms, points, k, a, b) -> None:
 
 
 @kernel
-def follow_bodies(body, w, ctx, terms, points, ids, n, coloured) -> None:
+def follow_bodies(body, w, ctx, terms, points, ids, n, others) -> None:
     """After the positions moved: both anchors of every point at one world point again.
 
     Equal and opposite impulses at one world point exert no net torque, so contacts keep
@@ -264,26 +263,35 @@ def follow_bodies(body, w, ctx, terms, points, ids, n, coloured) -> None:
     largest ``|m|`` seen here (``DRIFT``) times ``GROSS_J`` bounds that torque exactly;
     the contact cache keeps it (``state.KEPT_TORQUE``) for the tests of the law."""
     threshold = ctx[context.RESTITUTION_THRESHOLD]
-    for k in range(n):
-        if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
-            continue  # against an immovable body: it takes any torque, nothing to keep
-        if coloured and points[k, AGAINST_PLANE] == IN_COLOUR:
-            continue  # a world with coloured manifolds: lanes.follow_coloured moves it
-        a, b = ids[k, 0], ids[k, 1]
-        bounces = points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold
-        keep = points[k, KEEP]
-        if keep == 2.0 and not bounces:
-            along_line_of_centres(body, w, terms, points, k, a, b)
-            continue
-        mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
-        my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
-        if bounces:  # may bounce (see the docstring): its pushes act ``m`` apart
-            points[k, DRIFT] = max(points[k, DRIFT], math.hypot(mx, my))
-            continue
-        if keep == 0.0:
-            set_jacobian(points, k, 0.0, 0.0, -mx, -my)
-        else:
-            set_jacobian(points, k, mx, my, 0.0, 0.0)
+    p, start = 0, pair_at(others, 0, 0)
+    while start < n:
+        end = manifold_end(ids, n, start)
+        for k in range(start, end):
+            follow_point(body, w, terms, points, ids, k, threshold)
+        p += 1
+        start = pair_at(others, p, end)
+
+
+@inline
+def follow_point(body, w, terms, points, ids, k, threshold) -> None:
+    """``follow_bodies`` at point ``k``."""
+    if points[k, IMA] == 0.0 or points[k, IMB] == 0.0:
+        return  # against an immovable body: it takes any torque, nothing to keep
+    a, b = ids[k, 0], ids[k, 1]
+    bounces = points[k, MIXED_RESTITUTION] > 0.0 and points[k, APPROACH_SPEED] < -threshold
+    keep = points[k, KEEP]
+    if keep == 2.0 and not bounces:
+        along_line_of_centres(body, w, terms, points, k, a, b)
+        return
+    mx = (body[w, b, X] + points[k, RBX]) - (body[w, a, X] + points[k, RAX])
+    my = (body[w, b, Y] + points[k, RBY]) - (body[w, a, Y] + points[k, RAY])
+    if bounces:  # may bounce (see follow_bodies): its pushes act ``m`` apart
+        points[k, DRIFT] = max(points[k, DRIFT], math.hypot(mx, my))
+        return
+    if keep == 0.0:
+        set_jacobian(points, k, 0.0, 0.0, -mx, -my)
+    else:
+        set_jacobian(points, k, mx, my, 0.0, 0.0)
 
 
 @kernel

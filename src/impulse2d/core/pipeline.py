@@ -37,7 +37,7 @@ from __future__ import annotations
 from . import context
 from ._jit import JIT_DISABLED, borrowed, clear_stale_cache, inline, kernel
 from .broadphase import find_pairs
-from .colouring import colour_step, unpack_step
+from .colouring import colour_arrays, colour_step, unpack_step
 from .contacts import carry_impulses, count_dormant, follow_bodies, prepare, store
 from .events import break_bodies, record_contacts, sense
 from .integrate import (
@@ -178,6 +178,8 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
     biased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], True)
     unbiased = (ctx[context.INV_H], ctx[context.PUSH_SPEED], False)
     rest = n - 2 * coloured
+    # the pairs the plain passes walk in a coloured world; none listed: all (``pair_at``)
+    others = colour_arrays(floats, ints).others if coloured else ints[:0]
     count = int(ctx[context.SUBSTEPS])
     slots = scratch.moving
     if coloured:  # the rows of the bodies that do not move, for the whole step
@@ -189,7 +191,7 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
             apply_springs(body, body_i, spring, ends, w, terms, h)
             warm_start_joints(body, body_i, spring, ends, w, terms)
         if rest:
-            warm_start(body, w, points, ids, n, coloured > 0)
+            warm_start(body, w, points, ids, n, others)
         if links:
             solve_joints(body, body_i, spring, ends, w, ctx, terms, True)
         if coloured:
@@ -197,18 +199,18 @@ def substeps(body, body_i, spring, ends, w, ctx, scratch, n, coloured, n_moving)
             warm_start_coloured(states, floats, ints, coloured)
             solve_coloured(states, biased, floats, ints)
             store_states(body, w, states, slots, n_moving)
-        solve(body, w, ctx, terms, points, ids, n, rest)
+        solve(body, w, ctx, terms, points, ids, n, rest, others)
         integrate_positions(body, w, h, slots, n_moving)
         if links:
             solve_joints(body, body_i, spring, ends, w, ctx, terms, False)
         if rest:
-            follow_bodies(body, w, ctx, terms, points, ids, n, coloured > 0)
+            follow_bodies(body, w, ctx, terms, points, ids, n, others)
         if coloured:
             follow_coloured(body, w, floats, ints, coloured)
             load_moving(body, w, terms, states, slots, n_moving)
             solve_coloured(states, unbiased, floats, ints)
             store_states(body, w, states, slots, n_moving)
-        relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest)
+        relax(body, w, ctx, terms, points, ids, n, substep == count - 1, rest, others)
     if coloured:  # the coloured points' impulses, back where the rest read them
         unpack_step(points, floats, ints, coloured)
     restitution(body, w, ctx, terms, points, ids, n)

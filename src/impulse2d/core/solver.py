@@ -31,6 +31,7 @@ import math
 
 from . import context
 from ._jit import inline, kernel
+from .colouring import manifold_end, pair_at
 from .state import ANGLE, OMEGA, VX, VY, X, Y
 from .workspace import (
     AGAINST_PLANE,
@@ -45,7 +46,6 @@ from .workspace import (
     IMA,
     IMB,
     IMPULSE_SCALE,
-    IN_COLOUR,
     MASS_SCALE,
     MAX_J,
     MIXED_FRICTION,
@@ -180,16 +180,20 @@ def current_separation(body, w, a, b, points, k, terms) -> float:
 
 
 @kernel
-def warm_start(body, w, points, ids, n, coloured) -> None:
-    """Apply every point's accumulated normal and friction impulses (but, in a world
-    with ``coloured`` manifolds, theirs: ``lanes.warm_start_coloured``)."""
-    for k in range(n):
-        normal, tangent = points[k, NORMAL_J], points[k, TANGENT_J]
-        if coloured and points[k, AGAINST_PLANE] == IN_COLOUR:
-            continue
-        if normal != 0.0 or tangent != 0.0:
-            points[k, STEP_J] += normal
-            push(body, w, ids[k, 0], ids[k, 1], points, k, normal, tangent)
+def warm_start(body, w, points, ids, n, others) -> None:
+    """Apply every point's accumulated normal and friction impulses, but in a coloured
+    world only those of the pairs ``others`` lists (``lanes.warm_start_coloured`` warm
+    starts the rest; ``pair_at``)."""
+    p, start = 0, pair_at(others, 0, 0)
+    while start < n:
+        end = manifold_end(ids, n, start)
+        for k in range(start, end):
+            normal, tangent = points[k, NORMAL_J], points[k, TANGENT_J]
+            if normal != 0.0 or tangent != 0.0:
+                points[k, STEP_J] += normal
+                push(body, w, ids[k, 0], ids[k, 1], points, k, normal, tangent)
+        p += 1
+        start = pair_at(others, p, end)
 
 
 @inline
@@ -333,18 +337,18 @@ def solve_pair_normals(ctx, points, k, use_bias, v, d):
 
 
 @inline
-def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary, repeats) -> bool:
-    """One sweep over the pairs against a plane (``boundary`` 1.0) or the others (0.0);
-    returns whether a pair of them has more than two points (coupled by its body's
-    turning, which one sweep does not settle). A pair of two points has its normals
-    solved at once (``solve_pair_normals``); others one point after the other, and such
-    a pair is solved ``repeats`` times over before the sweep moves on."""
+def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary, repeats,
+                others) -> bool:  # fmt: skip
+    """One sweep over the pairs (those ``others`` lists in a coloured world,
+    ``pair_at``) against a plane (``boundary`` 1.0) or the others (0.0); returns whether
+    a pair of them has more than two points (coupled by its body's turning, which one
+    sweep does not settle). A pair of two points has its normals solved at once
+    (``solve_pair_normals``); others one point after the other, and such a pair is
+    solved ``repeats`` times over before the sweep moves on."""
     coupled = False
-    start = 0
+    p, start = 0, pair_at(others, 0, 0)
     while start < n:  # a pair's points are neighbours
-        end = start + 1
-        while end < n and ids[end, 0] == ids[start, 0] and ids[end, 1] == ids[start, 1]:
-            end += 1
+        end = manifold_end(ids, n, start)
         if points[start, AGAINST_PLANE] == boundary:  # never a coloured one's IN_COLOUR
             coupled |= end - start > 2
             a, b = ids[start, 0], ids[start, 1]
@@ -360,28 +364,30 @@ def solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary, r
                 for k in range(start, end):
                     v = solve_friction(points, k, v)
             store_velocities(body, w, a, b, v)
-        start = end
+        p += 1
+        start = pair_at(others, p, end)
     return coupled
 
 
 @inline
-def solve(body, w, ctx, terms, points, ids, n, rest) -> None:
+def solve(body, w, ctx, terms, points, ids, n, rest, others) -> None:
     """The biased sweep of a substep: contacts pushed apart softly (``sweep``)."""
-    sweep(body, w, ctx, terms, points, ids, n, True, False, rest)
+    sweep(body, w, ctx, terms, points, ids, n, True, False, rest, others)
 
 
 @inline
-def relax(body, w, ctx, terms, points, ids, n, last_substep, rest) -> None:
+def relax(body, w, ctx, terms, points, ids, n, last_substep, rest, others) -> None:
     """The relax sweep of a substep, without the position bias (``sweep``);
     ``last_substep``: the step's last, which leaves lone untouched points alone."""
-    sweep(body, w, ctx, terms, points, ids, n, False, last_substep, rest)
+    sweep(body, w, ctx, terms, points, ids, n, False, last_substep, rest, others)
 
 
 @kernel
-def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, rest) -> None:
+def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, rest, others) -> None:
     """One Gauss-Seidel sweep over the pairs in order, but those of coloured manifolds
-    (``lanes.solve_coloured`` solves them first): ``rest`` is how many points are left,
-    and with none left there is nothing to do. At each pair: non-penetration at each of
+    (``lanes.solve_coloured`` solves them first; in a coloured world it walks the pairs
+    ``others`` lists, ``pair_at``): ``rest`` is how many points are left, and with none
+    left there is nothing to do. At each pair: non-penetration at each of
     its points, then friction at each, within the cone of the normal impulse.
 
     The normal impulse solves ``J v + bias = 0`` softly and is clamped so the accumulated
@@ -418,7 +424,7 @@ def sweep(body, w, ctx, terms, points, ids, n, use_bias, last, rest) -> None:
     while done < sweeps:
         boundary = 0.0 if done == 0 else 1.0
         coupled = solve_pairs(body, w, ctx, terms, points, ids, n, use_bias, last, boundary,
-                              repeats if done == 1 else 1)  # fmt: skip
+                              repeats if done == 1 else 1, others)  # fmt: skip
         if done == 1 and coupled and not large:
             sweeps += _PLANE_SWEEPS - 1
         done += 1

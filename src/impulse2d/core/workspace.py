@@ -151,8 +151,8 @@ def manifold_room(points: int) -> int:
 def colour_sizes(bodies: int, points: int) -> tuple[int, int]:
     """Lengths of the coloured manifolds' float and int scratch (``Scratch.colour_floats``,
     ``colour_ints``; ``colouring.colour_arrays`` cuts them)."""
-    manifolds = manifold_room(points)
-    return (CON_F + LANE_F) * manifolds, 5 * manifolds + (COLOURS + 1) + bodies
+    manifolds = manifold_room(points)  # 2 * manifolds >= points + 2: room for ``others``
+    return (CON_F + LANE_F) * manifolds, 7 * manifolds + (COLOURS + 1) + bodies
 
 
 def colour_scratch(bodies: int, points: int) -> tuple[np.ndarray, np.ndarray]:
