@@ -2,7 +2,8 @@
 
 The step is ``bench/solver_probe.py``'s capture (the 20-row pyramid's 101st step, or
 ``--scene large``: Box2D's ``large_pyramid`` after 20 steps; ``--scene pool``: the break's
-11th; ``--scene rain``: the 1,000-body rain after its 60 untimed steps), its points as
+11th; ``--scene rain``: the 1,000-body rain after its 60 untimed steps; ``--scene smash`` or
+``many_pyramids``: Box2D's, at full size, as ``profile_step.py --box2d`` takes them), its points as
 the contact preparation leaves them. Each stage's kernel is called
 ``--repeats`` times on the same arrays (the state drifts; the work does not) and the
 median of five such calls is reported in ns a contact point a call. The plain rows run
@@ -26,7 +27,7 @@ import solver_probe
 from engine_runs import _pyramid_world
 from impulse2d.core import colouring, contacts, context, integrate, lanes, solver
 from impulse2d.core.workspace import STATE_F, colour_scratch
-from profile_step import _case, rain_case
+from profile_step import _case, box2d_case, rain_case
 from report import fmt, print_table
 from scenes import large_pyramid
 
@@ -39,6 +40,8 @@ def _large():
 
 solver_probe.SCENES["large"] = _large
 solver_probe.SCENES["rain"] = lambda: rain_case(1000)
+for _name in ("smash", "many_pyramids"):  # Box2D's, at full size (profile_step.box2d_case)
+    solver_probe.SCENES[_name] = lambda name=_name: box2d_case(name)
 
 
 @numba.njit(nogil=True)
@@ -141,13 +144,16 @@ def run(scene: str, repeats: int) -> tuple[int, int, list[tuple[str, float]]]:
     return n, count, [(name, _ns(call, repeats, n)) for name, call in rows]
 
 
+REPEATS = {"pyramid": 200, "large": 5, "pool": 2000, "rain": 20, "smash": 3, "many_pyramids": 2}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scene", choices=["pyramid", "large", "pool", "rain"], default="pyramid")
+    parser.add_argument("--scene", choices=list(REPEATS), default="pyramid")
     parser.add_argument("--repeats", type=int, default=0, help="calls a timing (0: by scene)")
     parser.add_argument("--quick", action="store_true", help="a few calls: a smoke test")
     args = parser.parse_args()
-    repeats = args.repeats or {"pyramid": 200, "large": 5, "pool": 2000, "rain": 20}[args.scene]
+    repeats = args.repeats or REPEATS[args.scene]
     repeats = 2 if args.quick else repeats
     n, count, rows = run(args.scene, repeats)
     print(f"{args.scene}: {n} points, {count} manifolds coloured; numba {numba.__version__}, "

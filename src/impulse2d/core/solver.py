@@ -452,8 +452,13 @@ def bounce_target(points, k, h) -> float:
 
 
 @kernel
-def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
-    """Which points bounce and the normal velocity each must reach; returns how many.
+def bounce_targets(body, w, ctx, terms, points, ids, n) -> tuple[int, int]:
+    """Which points bounce and the normal velocity each must reach; returns how many,
+    and the first of them: each bouncing point's ``BOUNCE`` is the next one's index plus
+    one (``n + 1`` after the last; 0 at points that do not bounce), so the sweeps of
+    ``restitution`` visit those points alone, in order (a large world's 40 m/s impact
+    had 22 of 92,531 points bouncing, and up to 64 sweeps over every point row to find
+    them cost a third of its step).
 
     A point bounces if it closed faster than the threshold at the step start and pushed.
     With ``e = 0`` it must also touch at the end of the step (within a tenth of the pair's
@@ -474,12 +479,10 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
             reach = 0.1 * (terms[a, HALF_SPEC] + terms[b, HALF_SPEC])
             eligible = current_separation(body, w, a, b, points, k, terms) <= reach
         points[k, BOUNCE] = 1.0 if eligible else 0.0
-    count = 0
+    count, first, last = 0, n, -1
     start = 0
     while start < n:  # a pair's points are neighbours
-        end = start + 1
-        while end < n and ids[end, 0] == ids[start, 0] and ids[end, 1] == ids[start, 1]:
-            end += 1
+        end = manifold_end(ids, n, start)
         bouncing = 0
         for k in range(start, end):
             bouncing += 1 if points[k, BOUNCE] > 0.0 else 0
@@ -491,8 +494,15 @@ def bounce_targets(body, w, ctx, terms, points, ids, n) -> int:
             else:
                 points[k, TARGET] = bounce_target(points, k, h)
                 count += 1
+                if last >= 0:
+                    points[last, BOUNCE] = k + 1.0
+                else:
+                    first = k
+                last = k
         start = end
-    return count
+    if last >= 0:
+        points[last, BOUNCE] = n + 1.0
+    return count, first
 
 
 @inline
@@ -544,13 +554,14 @@ def restitution(body, w, ctx, terms, points, ids, n) -> None:
     than ``_BOUNCE_TOLERANCE`` of its approach: the simultaneous impact, in which every
     point that pushes leaves at its target and the others at least as fast.
     """
-    count = bounce_targets(body, w, ctx, terms, points, ids, n)
+    count, first = bounce_targets(body, w, ctx, terms, points, ids, n)
     for _ in range(_BOUNCE_SWEEPS if count > 1 else 1):
         settled = True
-        for k in range(n):
-            if points[k, BOUNCE] == 1.0:
-                change = bounce(body, w, points, ids, k)
-                scale = _BOUNCE_TOLERANCE * points[k, NORMAL_MASS] * -points[k, APPROACH_SPEED]
-                settled &= abs(change) <= scale
+        k = first
+        while k < n:  # the bouncing points, in order (``bounce_targets``)
+            change = bounce(body, w, points, ids, k)
+            scale = _BOUNCE_TOLERANCE * points[k, NORMAL_MASS] * -points[k, APPROACH_SPEED]
+            settled &= abs(change) <= scale
+            k = int(points[k, BOUNCE]) - 1
         if settled:
             return
